@@ -1,0 +1,30 @@
+#pragma once
+// Mesh files in and out. Reading goes through OpenMesh's readers (OBJ, PLY
+// ascii/binary, OFF, STL) into a raw polygon soup, so that broken files reach
+// the checks intact instead of being silently patched by a mesh kernel.
+#include "mesh/polygon_soup.hpp"
+#include "mesh/triangle_mesh.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+namespace ism::io {
+
+/// A file that cannot be read or written; the message names the file.
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Extensions read_polygon_soup() understands, lower case with the dot.
+bool is_readable_mesh_extension(const std::filesystem::path& path);
+
+/// Reads positions and faces as the file stores them. Throws FileError.
+PolygonSoup read_polygon_soup(const std::filesystem::path& path);
+
+/// Writes a triangle mesh as OBJ, PLY (binary), OFF or STL, chosen by the
+/// extension. Throws FileError. Callers that must not leave partial files
+/// write to a temporary name first (see tool/output_file.hpp).
+void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
+
+}  // namespace ism::io

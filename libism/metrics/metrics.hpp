@@ -1,0 +1,149 @@
+#pragma once
+// Quality measures for inter-surface maps and for approximating meshes:
+//  - stretch of the piecewise-affine map between two triangulated surfaces
+//    (Sander et al. 2001, "Texture mapping progressive meshes"), one-way and
+//    symmetric (Schreiner et al. 2004, "Inter-surface mapping", §5.2);
+//  - symmetric surface distance and PSNR as Hoppe's MeshDistance reports it.
+//
+// Stretch works on edge lengths only: a piece of the map is a triangle of the
+// domain surface D and its image on the range surface M. Lengths suffice
+// because the stretch is invariant to rigid motions of either triangle, and
+// they are what the map core has at hand (pieces of a common overlay).
+#include "mesh/triangle_mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace ism {
+
+// ---------------------------------------------------------------------------
+// Stretch of one affine piece.
+
+/// Edge lengths of a triangle v0 v1 v2; l_i is the edge opposite vertex i:
+/// l0 = |v1 v2|, l1 = |v2 v0|, l2 = |v0 v1|.
+struct TriangleLengths {
+  double l0 = 0.0, l1 = 0.0, l2 = 0.0;
+};
+
+/// Area from the lengths (Kahan's stable Heron formula; 0 when the lengths
+/// violate the triangle inequality, so a flat piece is never "negative").
+double triangle_area(const TriangleLengths& t);
+
+/// Lays the triangle out in the plane: v0 at the origin, v1 on the +x axis,
+/// v2 in the upper half plane (y >= 0). Lengths that barely violate the
+/// triangle inequality (rounding) give y = 0 instead of a NaN.
+std::array<Eigen::Vector2d, 3> triangle_layout(const TriangleLengths& t);
+
+/// Singular values of a 2x2 Jacobian, max >= min >= 0 (Sander's Γ and γ).
+struct SingularValues {
+  double max = 0.0, min = 0.0;
+};
+
+/// Singular values of the Jacobian of the affine map that sends the domain
+/// triangle onto the range triangle, vertex i to vertex i. A zero-area domain
+/// triangle has no affine map: both values are +infinity.
+/// Both triangles are laid out counter-clockwise, so a flip cannot be seen
+/// from lengths; this is only a distortion measure.
+SingularValues stretch_singular_values(const TriangleLengths& domain, const TriangleLengths& range);
+
+/// Root-mean-square stretch over all directions, sqrt((Γ² + γ²) / 2).
+inline double l2_stretch(const SingularValues& s) {
+  return std::sqrt(0.5 * (s.max * s.max + s.min * s.min));
+}
+/// Worst-direction stretch Γ.
+inline double linf_stretch(const SingularValues& s) {
+  return s.max;
+}
+
+// ---------------------------------------------------------------------------
+// Stretch summed over the pieces of a map D -> M.
+
+/// One piece of the map: a domain triangle and its image.
+struct StretchPiece {
+  TriangleLengths domain;
+  TriangleLengths range;
+};
+
+/// Total areas of a set of pieces on each side.
+struct PieceAreas {
+  double domain = 0.0, range = 0.0;
+};
+PieceAreas piece_areas(std::span<const StretchPiece> pieces);
+
+/// Stretch of the map domain -> range, normalised for the global scale so that
+/// any isometry up to a uniform scale scores exactly 1.
+struct OneWayStretch {
+  /// L2n² = (Σ A_M(T) σ²(T) / A_M) · (A_D / A_M), σ² = (Γ² + γ²) / 2. Always >= 1.
+  double l2_normalized = 0.0;
+  /// 1 / l2_normalized, in (0, 1]; 1 only for a conformal map with uniform area scale.
+  double efficiency = 0.0;
+  /// max_T Γ(T) · sqrt(A_D / A_M).
+  double linf = 0.0;
+};
+
+/// Weights are RANGE areas A_M(T), as in Sander et al. 2001 and Hoppe's
+/// spherical parametrization code (the stretch is averaged over the surface
+/// being parametrised, not over the parameter domain).
+/// Throws std::invalid_argument for no pieces or a zero total range area.
+/// Any degenerate domain piece makes l2_normalized and linf infinite (efficiency 0).
+OneWayStretch one_way_stretch(std::span<const StretchPiece> pieces);
+
+/// Symmetric stretch of Schreiner et al. 2004 (§5.2): the normalised L2
+/// stretch of the map plus that of its inverse.
+///
+/// The paper prints the per-triangle stretch as Γ² + γ² without the 1/2 of
+/// Sander's (Γ² + γ²) / 2. We keep the 1/2: then each direction is >= 1, the
+/// efficiency 2 / (L2n²(D->M) + L2n²(M->D)) has upper bound 1 as the paper
+/// states, reached for an isometry up to scale (without the 1/2 an isometry
+/// would score 0.5).
+struct SymmetricStretch {
+  double sum = 0.0;                  ///< L2n²(D->M) + L2n²(M->D), >= 2.
+  double efficiency = 0.0;           ///< 2 / sum, in (0, 1].
+  double forward_efficiency = 0.0;   ///< one_way_stretch(D->M).efficiency.
+  double backward_efficiency = 0.0;  ///< one_way_stretch(M->D).efficiency.
+};
+
+/// Symmetric under swapping domain and range, invariant to scaling either side.
+/// Throws std::invalid_argument for no pieces or a zero total area on either side.
+SymmetricStretch symmetric_stretch(std::span<const StretchPiece> pieces);
+
+/// Contribution of one piece to SymmetricStretch::sum, given the total areas
+/// of all pieces; summing it over the pieces gives `sum` (up to rounding).
+/// This is the energy the map optimiser lowers one vertex at a time.
+double symmetric_piece_energy(const StretchPiece& piece, double area_domain_total,
+                              double area_range_total);
+
+// ---------------------------------------------------------------------------
+// Surface distance (Hoppe's MeshDistance definition of PSNR).
+
+struct SurfaceDistanceOptions {
+  /// Samples per surface are max(F_reference, F_other, min_samples).
+  std::size_t min_samples = 0;
+  /// Seed of the std::mt19937_64 that places the samples; same seed, same result.
+  std::uint64_t seed = 1;
+};
+
+struct SurfaceDistance {
+  double rms_a_to_b = 0.0;  ///< RMS distance from samples on the reference to the other mesh.
+  double rms_b_to_a = 0.0;  ///< RMS distance from samples on the other mesh to the reference.
+  double rms = 0.0;         ///< Pooled: sqrt of the mean squared distance over all samples.
+  double hausdorff = 0.0;   ///< Largest sampled distance (an estimate from below).
+  double peak = 0.0;        ///< Bounding-box diagonal of the reference.
+  double psnr_db = 0.0;     ///< 20 log10(peak / rms); +infinity when rms == 0.
+  std::size_t samples_a = 0, samples_b = 0;
+};
+
+/// Symmetric distance between two surfaces from area-uniform random samples,
+/// exact point-to-surface distances (AABB tree). Deterministic for a given
+/// seed on every platform (own uniform doubles, sequential reduction).
+/// Throws std::invalid_argument when a mesh is empty, has zero area, or
+/// references a missing vertex.
+SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& other,
+                                 const SurfaceDistanceOptions& options = {});
+
+}  // namespace ism

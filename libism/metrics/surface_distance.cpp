@@ -1,0 +1,163 @@
+// The only translation unit that includes CGAL (built as its own object
+// library, see CMakeLists.txt), so CGAL's flags and headers stay out of the
+// rest of the library.
+#include "metrics/metrics.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Simple_cartesian.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ism {
+
+namespace {
+
+// Inexact constructions are fine here: we only need distances to double precision.
+using Kernel = CGAL::Simple_cartesian<double>;
+using CgalPoint = Kernel::Point_3;
+using CgalTriangle = Kernel::Triangle_3;
+using CgalTriangles = std::vector<CgalTriangle>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, CgalTriangles::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+CgalPoint to_cgal(const Vec3& p) {
+  return {p.x(), p.y(), p.z()};
+}
+
+void check_mesh(const TriangleMesh& mesh, const char* role) {
+  const std::string where = std::string("surface_distance: ") + role + " mesh ";
+  if (mesh.triangles.empty()) throw std::invalid_argument(where + "has no triangles");
+  for (const Triangle& t : mesh.triangles)
+    for (int v : t)
+      if (v < 0 || static_cast<std::size_t>(v) >= mesh.n_vertices())
+        throw std::invalid_argument(where + "has a triangle referencing missing vertex " +
+                                    std::to_string(v));
+}
+
+/// Uniform double in [0, 1) from the top 53 bits: std::uniform_real_distribution
+/// is implementation-defined, this is the same on every standard library.
+double uniform01(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+/// Draws area-uniform random points on a mesh.
+class SurfaceSampler {
+ public:
+  SurfaceSampler(const TriangleMesh& mesh, const char* role) : mesh_(mesh) {
+    cumulative_area_.reserve(mesh.n_faces());
+    double total = 0.0;
+    for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
+      total += face_area(mesh, f);
+      cumulative_area_.push_back(total);
+    }
+    if (!(total > 0.0) || !std::isfinite(total))
+      throw std::invalid_argument(std::string("surface_distance: ") + role +
+                                  " mesh has zero (or non-finite) total area");
+  }
+
+  std::vector<Vec3> sample(std::size_t count, std::mt19937_64& rng) const {
+    std::vector<Vec3> points;
+    points.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) points.push_back(sample_one(rng));
+    return points;
+  }
+
+ private:
+  Vec3 sample_one(std::mt19937_64& rng) const {
+    // Triangle with probability proportional to its area; upper_bound never
+    // lands on a zero-area triangle.
+    const double target = uniform01(rng) * cumulative_area_.back();
+    const auto it = std::upper_bound(cumulative_area_.begin(), cumulative_area_.end(), target);
+    const std::size_t f =
+        std::min<std::size_t>(it - cumulative_area_.begin(), cumulative_area_.size() - 1);
+    const Triangle& t = mesh_.triangles[f];
+    // Uniform point in the triangle: the sqrt undoes the density growth towards the base.
+    const double s = std::sqrt(uniform01(rng));
+    const double r = uniform01(rng);
+    return (1.0 - s) * mesh_.positions[t[0]] + (s * (1.0 - r)) * mesh_.positions[t[1]] +
+           (s * r) * mesh_.positions[t[2]];
+  }
+
+  const TriangleMesh& mesh_;
+  std::vector<double> cumulative_area_;
+};
+
+/// Closest-point queries against one mesh.
+class DistanceOracle {
+ public:
+  explicit DistanceOracle(const TriangleMesh& mesh) {
+    triangles_.reserve(mesh.n_faces());
+    for (const Triangle& t : mesh.triangles)
+      triangles_.emplace_back(to_cgal(mesh.positions[t[0]]), to_cgal(mesh.positions[t[1]]),
+                              to_cgal(mesh.positions[t[2]]));
+    tree_.insert(triangles_.cbegin(), triangles_.cend());
+    // Build both the tree and its k-d tree of hints now: later const queries
+    // would otherwise build them lazily, behind a lock, from the worker threads.
+    tree_.build();
+    tree_.accelerate_distance_queries();
+  }
+
+  /// Squared distance of each point to the surface, in parallel; the result
+  /// depends only on the points (one slot per point).
+  std::vector<double> squared_distances(const std::vector<Vec3>& points) const {
+    std::vector<double> result(points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i)
+                          result[i] = tree_.squared_distance(to_cgal(points[i]));
+                      });
+    return result;
+  }
+
+ private:
+  CgalTriangles triangles_;  // the primitives point into this vector
+  Tree tree_;
+};
+
+}  // namespace
+
+SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& other,
+                                 const SurfaceDistanceOptions& options) {
+  check_mesh(reference, "reference");
+  check_mesh(other, "other");
+  const SurfaceSampler sampler_a(reference, "reference");
+  const SurfaceSampler sampler_b(other, "other");
+
+  const std::size_t count = std::max({reference.n_faces(), other.n_faces(), options.min_samples});
+  // One generator, drawn sequentially: samples on the reference first, then on the other.
+  std::mt19937_64 rng(options.seed);
+  const std::vector<Vec3> points_a = sampler_a.sample(count, rng);
+  const std::vector<Vec3> points_b = sampler_b.sample(count, rng);
+
+  const std::vector<double> d2_a = DistanceOracle(other).squared_distances(points_a);
+  const std::vector<double> d2_b = DistanceOracle(reference).squared_distances(points_b);
+
+  // Sequential reductions keep the result independent of the thread schedule.
+  double sum_a = 0.0, sum_b = 0.0, max_d2 = 0.0;
+  for (double d2 : d2_a) sum_a += d2, max_d2 = std::max(max_d2, d2);
+  for (double d2 : d2_b) sum_b += d2, max_d2 = std::max(max_d2, d2);
+
+  SurfaceDistance result;
+  result.samples_a = d2_a.size();
+  result.samples_b = d2_b.size();
+  result.rms_a_to_b = std::sqrt(sum_a / static_cast<double>(result.samples_a));
+  result.rms_b_to_a = std::sqrt(sum_b / static_cast<double>(result.samples_b));
+  result.rms =
+      std::sqrt((sum_a + sum_b) / static_cast<double>(result.samples_a + result.samples_b));
+  result.hausdorff = std::sqrt(max_d2);
+  result.peak = bounding_box_diagonal(reference);
+  result.psnr_db = result.rms > 0.0 ? 20.0 * std::log10(result.peak / result.rms)
+                                    : std::numeric_limits<double>::infinity();
+  return result;
+}
+
+}  // namespace ism

@@ -1,0 +1,109 @@
+#include "tool/tool.hpp"
+
+#include "io/io.hpp"
+#include "report/report.hpp"
+#include "tool/failure.hpp"
+
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <fstream>
+
+namespace ism::tool {
+
+std::size_t peak_memory_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return std::size_t(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+Run::Run(std::string tool_name, CommonOptions options)
+    : tool_(std::move(tool_name)),
+      options_(std::move(options)),
+      start_(std::chrono::steady_clock::now()),
+      progress_(tool_, options_.quiet) {
+  report_["tool"] = tool_;
+  report_["version"] = ISM_VERSION;
+  // Fail before the work, not after it, when the report cannot be written.
+  if (!options_.report_path.empty()) check_output(options_.report_path);
+}
+
+void Run::add_input(const std::filesystem::path& path) {
+  inputs_.push_back(path);
+  if (!options_.report_path.empty()) check_output(options_.report_path);
+}
+
+void Run::check_output(const std::filesystem::path& path) const { OutputFile probe(path, inputs_); }
+
+TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs) {
+  add_input(path);
+  stage("read");
+  PolygonSoup soup;
+  try {
+    soup = io::read_polygon_soup(path);
+  } catch (const io::FileError& e) {
+    throw Failure(e.what());
+  }
+  stage("check");
+  PreparedMesh prepared = prepare_mesh(soup);
+  Json input = Json::object();
+  input["file"] = path.string();
+  input["check"] = to_json(prepared.check);
+  report_["inputs"].push_back(input);
+  if (auto unmet = unmet_requirement(prepared.check, needs))
+    throw Failure(path.string() + ": " + *unmet);
+  for (const auto& repair : prepared.check.repairs()) note(path.string() + ": " + repair);
+  for (const auto& warning : prepared.check.warnings()) note(path.string() + ": warning: " + warning);
+  return std::move(prepared.mesh);
+}
+
+Progress& Run::stage(const std::string& name) {
+  end_stage();
+  stage_name_ = name;
+  stage_start_ = std::chrono::steady_clock::now();
+  progress_.start(name);
+  return progress_;
+}
+
+void Run::end_stage() {
+  if (stage_name_.empty()) return;
+  progress_.finish();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
+  Json& slot = stages_[stage_name_];
+  slot = slot.is_null() ? Json(seconds) : slot;  // a repeated stage keeps its first timing
+  stage_name_.clear();
+}
+
+void Run::note(const std::string& message) const {
+  if (!options_.quiet) std::fprintf(stderr, "%s\n", message.c_str());
+}
+
+void Run::finish() {
+  end_stage();
+  report_["seconds"] = stages_;
+  report_["seconds"]["total"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  report_["peak_memory_mb"] = double(peak_memory_bytes()) / (1024.0 * 1024.0);
+  if (options_.report_path.empty()) return;
+  OutputFile out(options_.report_path, inputs_);
+  {
+    std::ofstream file(out.temp_path());
+    file << report_.dump() << '\n';
+    if (!file) throw Failure(options_.report_path + ": cannot write the report");
+  }
+  out.commit();
+}
+
+int run_main(const std::string& tool_name, const std::function<int()>& body) {
+  try {
+    return body();
+  } catch (const Failure& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool_name.c_str(), e.what());
+  }
+  return 1;
+}
+
+}  // namespace ism::tool

@@ -1,0 +1,73 @@
+#pragma once
+// Conventions shared by every command-line front end: one-line failures,
+// progress on stderr, stage timings and peak memory in a JSON report, outputs
+// that appear only when complete and never over an input.
+#include "mesh/mesh_check.hpp"
+#include "report/json.hpp"
+#include "tool/output_file.hpp"
+#include "tool/progress.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ism::tool {
+
+/// Options every tool takes (see tool/cli.hpp for the command-line side).
+struct CommonOptions {
+  bool quiet = false;
+  std::string report_path;  // empty: no report
+};
+
+/// Peak resident memory of this process so far, in bytes.
+std::size_t peak_memory_bytes();
+
+/// One invocation of a tool: its inputs, stages, messages and report.
+class Run {
+ public:
+  Run(std::string tool_name, CommonOptions options);
+
+  const std::string& tool_name() const { return tool_; }
+  bool quiet() const { return options_.quiet; }
+  Json& report() { return report_; }
+
+  /// Reads and checks a surface; throws Failure naming the file and the
+  /// first unmet requirement. Repairs are announced on stderr and the check
+  /// goes into the report under "input".
+  TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs);
+  /// Files that outputs must never overwrite.
+  void add_input(const std::filesystem::path& path);
+  /// Throws Failure now if `path` could not be written later (an input, a
+  /// missing folder), so that no work is wasted.
+  void check_output(const std::filesystem::path& path) const;
+  const std::vector<std::filesystem::path>& inputs() const { return inputs_; }
+
+  /// Starts a named stage (ends the previous one); its wall time is reported.
+  Progress& stage(const std::string& name);
+  /// A note on stderr unless quiet.
+  void note(const std::string& message) const;
+
+  /// Ends the last stage and writes the report (if asked for).
+  void finish();
+
+ private:
+  void end_stage();
+
+  std::string tool_;
+  CommonOptions options_;
+  Json report_ = Json::object();
+  std::vector<std::filesystem::path> inputs_;
+  std::chrono::steady_clock::time_point start_;
+  std::string stage_name_;
+  std::chrono::steady_clock::time_point stage_start_;
+  Json stages_ = Json::object();
+  Progress progress_;
+};
+
+/// Runs a tool's body: a Failure prints its message as one line and exits 1,
+/// any other exception prints "tool: message" and exits 1 as well.
+int run_main(const std::string& tool_name, const std::function<int()>& body);
+
+}  // namespace ism::tool

@@ -1,0 +1,136 @@
+// prepare_mesh() on small hand-made soups whose topology is known exactly.
+#include "mesh/mesh_check.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ism {
+namespace {
+
+// A tetrahedron, outward oriented.
+PolygonSoup tetrahedron() {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return s;
+}
+
+TEST(MeshCheck, TetrahedronIsClosedGenusZero) {
+  const MeshCheck c = prepare_mesh(tetrahedron()).check;
+  EXPECT_EQ(c.vertices, 4u);
+  EXPECT_EQ(c.edges, 6u);
+  EXPECT_EQ(c.faces, 4u);
+  EXPECT_EQ(c.euler_characteristic, 2);
+  EXPECT_EQ(c.genus, 0);
+  EXPECT_TRUE(c.closed());
+  EXPECT_TRUE(c.valid_surface());
+  EXPECT_TRUE(c.repairs().empty());
+  EXPECT_NEAR(c.area, 1.5 + std::sqrt(3.0) / 2, 1e-12);
+}
+
+TEST(MeshCheck, InwardTetrahedronIsTurnedOutward) {
+  PolygonSoup s = tetrahedron();
+  for (auto& f : s.faces) std::swap(f[1], f[2]);
+  const PreparedMesh p = prepare_mesh(s);
+  EXPECT_TRUE(p.check.flipped_inward);
+  EXPECT_GT(signed_volume(p.mesh), 0.0);
+}
+
+TEST(MeshCheck, OneFlippedFaceIsReoriented) {
+  PolygonSoup s = tetrahedron();
+  std::swap(s.faces[3][1], s.faces[3][2]);
+  const PreparedMesh p = prepare_mesh(s);
+  EXPECT_TRUE(p.check.orientable);
+  EXPECT_EQ(p.check.reoriented_faces, 1u);
+  EXPECT_FALSE(p.check.flipped_inward);
+  EXPECT_NEAR(signed_volume(p.mesh), 1.0 / 6.0, 1e-15);
+}
+
+TEST(MeshCheck, QuadIsTriangulatedAndHasOneBoundaryLoop) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  s.faces = {{0, 1, 2, 3}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.faces, 2u);
+  EXPECT_EQ(c.triangulated_polygons, 1u);
+  EXPECT_EQ(c.boundary_loops, 1u);
+  EXPECT_EQ(c.genus, 0);  // a disc
+}
+
+TEST(MeshCheck, CoincidentPositionsAreWelded) {
+  PolygonSoup s;  // two triangles sharing an edge through duplicated points
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  s.faces = {{0, 1, 2}, {3, 5, 4}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.welded_vertices, 2u);
+  EXPECT_EQ(c.vertices, 4u);
+  EXPECT_EQ(c.edges, 5u);
+  EXPECT_EQ(c.components, 1u);
+  EXPECT_EQ(c.boundary_loops, 1u);
+}
+
+TEST(MeshCheck, EdgeSharedByThreeFacesIsNonManifold) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  s.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.nonmanifold_edges, 1u);
+  ASSERT_TRUE(c.example_nonmanifold_edge);
+  EXPECT_EQ(c.example_nonmanifold_edge->first, 0);
+  EXPECT_EQ(c.example_nonmanifold_edge->second, 1);
+  EXPECT_FALSE(c.valid_surface());
+  EXPECT_FALSE(c.genus);
+}
+
+TEST(MeshCheck, TwoFansAtOneVertexAreNonManifold) {
+  PolygonSoup s;  // two triangles touching only at vertex 0 (a bow tie)
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+  s.faces = {{0, 1, 2}, {0, 3, 4}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.nonmanifold_vertices, 1u);
+  EXPECT_EQ(c.example_nonmanifold_vertex, 0);
+  EXPECT_EQ(c.components, 1u);
+  const auto unmet = unmet_requirement(c, {.tool = "x"});
+  ASSERT_TRUE(unmet);
+  EXPECT_EQ(*unmet, "1 non-manifold vertex (e.g. vertex 0), x needs one connected, orientable 2-manifold");
+}
+
+TEST(MeshCheck, SeparateTrianglesAreTwoComponents) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {5, 1, 0}};
+  s.faces = {{0, 1, 2}, {3, 4, 5}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.components, 2u);
+  EXPECT_FALSE(c.valid_surface());
+}
+
+TEST(MeshCheck, NonFiniteCoordinateIsADefect) {
+  PolygonSoup s = tetrahedron();
+  s.positions[3] = {0, std::numeric_limits<double>::quiet_NaN(), 1};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.nonfinite_coordinates, 1u);
+  EXPECT_FALSE(c.valid_surface());
+}
+
+TEST(MeshCheck, ZeroAreaFaceIsCountedAndKept) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}};
+  s.faces = {{0, 1, 3}, {0, 2, 1}};  // second face is collinear
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(c.degenerate_faces, 1u);
+  EXPECT_EQ(c.faces, 2u);
+}
+
+TEST(MeshCheck, RequirementsNameTheDefect) {
+  PolygonSoup s;
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  s.faces = {{0, 1, 2}, {0, 2, 3}};
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_EQ(unmet_requirement(c, {.tool = "gim-remesh", .closed = true}),
+            "1 boundary loop, gim-remesh needs a closed surface");
+  EXPECT_EQ(unmet_requirement(prepare_mesh(tetrahedron()).check, {.tool = "torus-remesh", .genus = 1}),
+            "genus 0, torus-remesh needs genus 1");
+  EXPECT_FALSE(unmet_requirement(c, {.tool = "ism-info"}));
+}
+
+}  // namespace
+}  // namespace ism

@@ -1,0 +1,128 @@
+// The command-line tools as a user runs them: exit status, one-line errors,
+// JSON keys, no output file on failure.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status;
+  std::string out, err;
+};
+
+fs::path scratch_dir() {
+  fs::path dir = ism::test::binary_dir() / "test-scratch" / "tools";
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+Result run(const std::string& tool, const std::string& args) {
+  const fs::path out = scratch_dir() / "stdout.txt", err = scratch_dir() / "stderr.txt";
+  const std::string cmd = (ism::test::binary_dir() / "bin" / tool).string() + " " + args + " >" +
+                          out.string() + " 2>" + err.string();
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+std::size_t lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+
+TEST(IsmInfo, ValidModelsExitZeroWithTheirGenus) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const std::pair<const char*, const char*> cases[] = {
+      {"bunny_small.obj", "\"genus\": 0"}, {"bunny_open.obj", "\"boundary_loops\": 5"},
+      {"torus.obj", "\"genus\": 1"},       {"fertility.obj", "\"genus\": 4"},
+  };
+  for (const auto& [file, expected] : cases) {
+    SCOPED_TRACE(file);
+    const Result r = run("ism-info", (ism::test::shared_models_dir() / file).string() + " --json");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"manifold\": true"), std::string::npos);
+  }
+}
+
+TEST(IsmInfo, EveryBadModelGetsAnAnswerAndNoCrash) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const std::pair<const char*, int> cases[] = {
+      {"cow_pinched.obj", 1},       {"dragon_vrip_res4.obj", 1}, {"trex_skull_scan.obj", 1},
+      {"two_tori_linked.obj", 1},   {"mobius.obj", 1},           {"teapot_patch_soup.obj", 1},
+      {"bunny_inward.obj", 0},      {"blobby_shuffled.obj", 0},  {"torus_quads.obj", 0},
+      {"sphere_uv_unwelded.obj", 0}};
+  for (const auto& [file, status] : cases) {
+    SCOPED_TRACE(file);
+    const fs::path path = ism::test::shared_models_dir() / "bad" / file;
+    const Result r = run("ism-info", path.string());
+    EXPECT_EQ(r.status, status) << r.err;
+    if (status != 0) {
+      EXPECT_EQ(lines(r.err), 1u) << r.err;
+      EXPECT_EQ(r.err.rfind(path.string() + ": ", 0), 0u) << r.err;
+    } else {
+      EXPECT_NE(r.out.find("repaired: "), std::string::npos) << r.out;
+    }
+  }
+}
+
+TEST(IsmInfo, UnreadableFileIsOneLine) {
+  const Result r = run("ism-info", "/nonexistent/mesh.obj");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err, "/nonexistent/mesh.obj: no such file\n");
+}
+
+TEST(Tools, WrongTopologyIsRefusedWithoutOutput) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path output = scratch_dir() / "never.exr";
+  fs::remove(output);
+  const fs::path input = ism::test::shared_models_dir() / "bunny_open.obj";
+  const Result r = run("gim-remesh", input.string() + " -o " + output.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err, input.string() + ": 5 boundary loops, gim-remesh needs a closed surface\n");
+  EXPECT_FALSE(fs::exists(output));
+}
+
+TEST(Tools, GeneratedMeshIsAValidSurfaceAndReportIsWritten) {
+  const fs::path mesh = scratch_dir() / "torus.obj", report = scratch_dir() / "report.json";
+  fs::remove(report);
+  Result r = run("ism-genmesh", "torus --faces 2000 -o " + mesh.string());
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = run("ism-info", mesh.string() + " --report " + report.string());
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("genus 1"), std::string::npos) << r.out;
+  const std::string json = slurp(report);
+  EXPECT_NE(json.find("\"peak_memory_mb\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"total\""), std::string::npos) << json;
+}
+
+TEST(Tools, OutputOverTheInputIsRefused) {
+  const fs::path mesh = scratch_dir() / "keep.obj";
+  ASSERT_EQ(run("ism-genmesh", "sphere --faces 500 -o " + mesh.string()).status, 0);
+  const std::string before = slurp(mesh);
+  const Result r = run("ism-info", mesh.string() + " --report " + mesh.string());
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("refusing to overwrite an input file"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(mesh), before);
+}
+
+TEST(Tools, VersionAndHelp) {
+  for (const char* tool : {"ism-info", "ism-genmesh", "gim-remesh", "semireg", "torus-remesh"}) {
+    SCOPED_TRACE(tool);
+    EXPECT_EQ(run(tool, "--version").status, 0);
+    const Result help = run(tool, "--help");
+    EXPECT_EQ(help.status, 0);
+    EXPECT_NE(help.out.find("--report"), std::string::npos);
+  }
+}
+
+}  // namespace
