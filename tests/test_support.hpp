@@ -8,19 +8,25 @@
 
 namespace ism::test {
 
-inline std::filesystem::path shared_dir() { return std::filesystem::path(ISM_SHARED_DIR); }
-inline std::filesystem::path shared_models_dir() { return shared_dir() / "models"; }
+inline std::filesystem::path shared_dir() {
+  return std::filesystem::path(ISM_SHARED_DIR);
+}
+inline std::filesystem::path shared_models_dir() {
+  return shared_dir() / "models";
+}
 inline bool have_shared_models() {
   return std::filesystem::is_directory(shared_models_dir());
 }
-inline std::filesystem::path binary_dir() { return std::filesystem::path(ISM_BINARY_DIR); }
+inline std::filesystem::path binary_dir() {
+  return std::filesystem::path(ISM_BINARY_DIR);
+}
 
 }  // namespace ism::test
 
 /// Skips the current test when the shared models are not beside the checkout.
-#define ISM_REQUIRE_SHARED_MODELS()                                                   \
-  do {                                                                                \
-    if (!::ism::test::have_shared_models())                                           \
+#define ISM_REQUIRE_SHARED_MODELS()                                                     \
+  do {                                                                                  \
+    if (!::ism::test::have_shared_models())                                             \
       GTEST_SKIP() << "shared models not found at " << ::ism::test::shared_models_dir() \
-                   << " (clone ../shared beside the repository to run this test)";    \
+                   << " (clone ../shared beside the repository to run this test)";      \
   } while (0)

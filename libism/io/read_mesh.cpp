@@ -11,10 +11,10 @@
 namespace ism::io {
 namespace {
 
+using OpenMesh::EdgeHandle;
 using OpenMesh::FaceHandle;
 using OpenMesh::HalfedgeHandle;
 using OpenMesh::VertexHandle;
-using OpenMesh::EdgeHandle;
 
 // An OpenMesh importer that records what the reader sees and ignores all
 // attributes. Every attribute hook of the interface is a deliberate no-op.
@@ -93,7 +93,8 @@ class SoupImporter final : public OpenMesh::IO::BaseImporter {
 
 std::string lower_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
@@ -123,7 +124,8 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path) {
   OpenMesh::IO::Options options;
   const bool ok = OpenMesh::IO::IOManager().read(name, importer, options);
   if (!ok) throw FileError(name + ": unreadable or malformed mesh file");
-  if (importer.bad_index()) throw FileError(name + ": a face refers to a vertex that does not exist");
+  if (importer.bad_index())
+    throw FileError(name + ": a face refers to a vertex that does not exist");
   if (soup.faces.empty()) throw FileError(name + ": the file has no faces");
   return soup;
 }

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <sstream>
 #include <map>
+#include <sstream>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -226,7 +226,7 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
         int cu = int(3 * u.face) + (u.corner + end) % 3;
         // The same vertex sits at corner or corner+1 of the other face.
         int cw = mesh.triangles[w.face][w.corner] == vu ? int(3 * w.face) + w.corner
-                                                          : int(3 * w.face) + (w.corner + 1) % 3;
+                                                        : int(3 * w.face) + (w.corner + 1) % 3;
         corners.unite(cu, cw);
       }
     } else {
@@ -284,7 +284,8 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
         const EdgeUse& mine = uses[0].face == f ? uses[0] : uses[1];
         const EdgeUse& other = uses[0].face == f ? uses[1] : uses[0];
         // Neighbours agree when they traverse the shared edge in opposite directions.
-        signed char wanted = mine.forward != other.forward ? flip[f] : static_cast<signed char>(-flip[f]);
+        signed char wanted =
+            mine.forward != other.forward ? flip[f] : static_cast<signed char>(-flip[f]);
         if (!flip[other.face]) {
           flip[other.face] = wanted;
           members.push_back(other.face);
@@ -295,8 +296,8 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
       }
     }
     // Keep the orientation most faces of the component already have.
-    std::size_t flips = std::count_if(members.begin(), members.end(),
-                                      [&](std::size_t f) { return flip[f] < 0; });
+    std::size_t flips =
+        std::count_if(members.begin(), members.end(), [&](std::size_t f) { return flip[f] < 0; });
     if (2 * flips > members.size()) {
       for (std::size_t f : members) flip[f] = static_cast<signed char>(-flip[f]);
       flips = members.size() - flips;
@@ -329,11 +330,18 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
 
 std::vector<std::string> MeshCheck::repairs() const {
   std::vector<std::string> r;
-  if (welded_vertices) r.push_back("welded " + plural(welded_vertices, "coincident vertex", "coincident vertices"));
-  if (triangulated_polygons) r.push_back("triangulated " + plural(triangulated_polygons, "polygon", "polygons"));
-  if (dropped_faces) r.push_back("dropped " + plural(dropped_faces, "face", "faces") + " with repeated corners");
-  if (unreferenced_vertices) r.push_back("removed " + plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices"));
-  if (reoriented_faces) r.push_back("reoriented " + plural(reoriented_faces, "face", "faces") + " to agree with their neighbours");
+  if (welded_vertices)
+    r.push_back("welded " + plural(welded_vertices, "coincident vertex", "coincident vertices"));
+  if (triangulated_polygons)
+    r.push_back("triangulated " + plural(triangulated_polygons, "polygon", "polygons"));
+  if (dropped_faces)
+    r.push_back("dropped " + plural(dropped_faces, "face", "faces") + " with repeated corners");
+  if (unreferenced_vertices)
+    r.push_back("removed " +
+                plural(unreferenced_vertices, "unreferenced vertex", "unreferenced vertices"));
+  if (reoriented_faces)
+    r.push_back("reoriented " + plural(reoriented_faces, "face", "faces") +
+                " to agree with their neighbours");
   if (flipped_inward) r.push_back("flipped all faces: the closed surface was oriented inward");
   return r;
 }
@@ -342,7 +350,8 @@ std::vector<std::string> MeshCheck::defects() const {
   std::vector<std::string> d;
   if (faces == 0) d.push_back("no faces");
   if (nonfinite_coordinates)
-    d.push_back(plural(nonfinite_coordinates, "vertex", "vertices") + " with non-finite coordinates");
+    d.push_back(plural(nonfinite_coordinates, "vertex", "vertices") +
+                " with non-finite coordinates");
   if (nonmanifold_edges) {
     std::string s = plural(nonmanifold_edges, "non-manifold edge", "non-manifold edges");
     if (example_nonmanifold_edge)
@@ -357,7 +366,8 @@ std::vector<std::string> MeshCheck::defects() const {
     d.push_back(s);
   }
   if (!orientable) d.push_back("non-orientable surface");
-  if (components > 1) d.push_back(plural(components, "connected component", "connected components"));
+  if (components > 1)
+    d.push_back(plural(components, "connected component", "connected components"));
   return d;
 }
 
@@ -368,7 +378,8 @@ std::vector<std::string> MeshCheck::warnings() const {
   return w;
 }
 
-std::optional<std::string> unmet_requirement(const MeshCheck& check, const MeshRequirements& needs) {
+std::optional<std::string> unmet_requirement(const MeshCheck& check,
+                                             const MeshRequirements& needs) {
   auto defects = check.defects();
   if (!defects.empty())
     return defects.front() + ", " + needs.tool + " needs one connected, orientable 2-manifold";
@@ -376,8 +387,8 @@ std::optional<std::string> unmet_requirement(const MeshCheck& check, const MeshR
     return plural(check.boundary_loops, "boundary loop", "boundary loops") + ", " + needs.tool +
            " needs a closed surface";
   if (needs.genus && check.genus != needs.genus)
-    return "genus " + std::to_string(check.genus.value_or(-1)) + ", " + needs.tool + " needs genus " +
-           std::to_string(*needs.genus);
+    return "genus " + std::to_string(check.genus.value_or(-1)) + ", " + needs.tool +
+           " needs genus " + std::to_string(*needs.genus);
   return std::nullopt;
 }
 

@@ -31,18 +31,18 @@ struct MeshCheck {
   std::size_t nonfinite_coordinates = 0;
   std::size_t nonmanifold_edges = 0;
   std::size_t nonmanifold_vertices = 0;
-  std::optional<int> example_nonmanifold_vertex;                  // input vertex index, 0-based
-  std::optional<std::pair<int, int>> example_nonmanifold_edge;    // input vertex indices
-  std::size_t degenerate_faces = 0;                               // zero area, kept
+  std::optional<int> example_nonmanifold_vertex;                // input vertex index, 0-based
+  std::optional<std::pair<int, int>> example_nonmanifold_edge;  // input vertex indices
+  std::size_t degenerate_faces = 0;                             // zero area, kept
   std::size_t duplicate_faces = 0;
 
   // Repairs done while preparing.
-  std::size_t welded_vertices = 0;         // positions merged into an earlier identical one
-  std::size_t triangulated_polygons = 0;   // faces with more than three corners
-  std::size_t dropped_faces = 0;           // fewer than three distinct corners
-  std::size_t unreferenced_vertices = 0;   // removed
-  std::size_t reoriented_faces = 0;        // flipped to agree with their neighbours
-  bool flipped_inward = false;             // closed surface turned outward
+  std::size_t welded_vertices = 0;        // positions merged into an earlier identical one
+  std::size_t triangulated_polygons = 0;  // faces with more than three corners
+  std::size_t dropped_faces = 0;          // fewer than three distinct corners
+  std::size_t unreferenced_vertices = 0;  // removed
+  std::size_t reoriented_faces = 0;       // flipped to agree with their neighbours
+  bool flipped_inward = false;            // closed surface turned outward
 
   bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
   bool closed() const { return boundary_loops == 0; }
@@ -67,9 +67,9 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup);
 
 /// What a tool needs of its input surface.
 struct MeshRequirements {
-  std::string tool;                // named in the message, e.g. "gim-remesh"
-  bool closed = false;             // no boundary
-  std::optional<int> genus;        // exact genus wanted
+  std::string tool;          // named in the message, e.g. "gim-remesh"
+  bool closed = false;       // no boundary
+  std::optional<int> genus;  // exact genus wanted
 };
 
 /// The first unmet requirement as "5 boundary loops, gim-remesh needs a closed

@@ -22,11 +22,15 @@ std::vector<Bump> random_bumps(std::uint64_t seed, double bumpiness) {
   std::vector<Bump> bumps(6 + rng() % 5);
   double dent = 0.0;  // sum of the negative amplitudes
   for (Bump& b : bumps) {
-    const double z = 2.0 * uniform() - 1.0, angle = 2.0 * M_PI * uniform();
+    // One draw per statement: the order of calls within an expression is unspecified.
+    const double z = 2.0 * uniform() - 1.0;
+    const double angle = 2.0 * M_PI * uniform();
     const double s = std::sqrt(1.0 - z * z);
     b.centre = Vec3(s * std::cos(angle), s * std::sin(angle), z);
-    b.amplitude = bumpiness * (1.5 * uniform() - 0.5);  // mostly outward
-    b.width = 0.05 + 0.25 * uniform();
+    // Clear bumps, a third of them dents: |a| in [0.4, 1] * bumpiness.
+    b.amplitude = bumpiness * (0.4 + 0.6 * uniform());
+    if (uniform() < 1.0 / 3.0) b.amplitude = -b.amplitude;
+    b.width = 0.05 + 0.2 * uniform();
     if (b.amplitude < 0) dent -= b.amplitude;
   }
   // Even if all dents overlap, r = 1 - dent must stay >= 0.4 (> 0.3).

@@ -39,8 +39,9 @@ TriangleMesh torus(int target_faces, double R = 2.0, double r = 1.0);
 /// with two 1 x 1 through-holes, each boundary unit square split into k x k
 /// squares of two triangles (k = max(1, round(sqrt(target_faces / 100))), so
 /// exactly 100 k^2 faces and 50 k^2 - 2 vertices), then rounded by Laplacian
-/// smoothing over a fixed physical length so the shape does not depend on k.
-/// Centred at the origin, spanning about 5 x 3 x 1.
+/// smoothing over a fixed physical length, so the shape hardly depends on k
+/// (about 4.75 x 2.75 x 0.87, centred at the origin; k = 1 stays boxy). No
+/// face turns by 90 degrees or more from its voxel square.
 TriangleMesh double_torus(int target_faces);
 
 }  // namespace ism::shapes

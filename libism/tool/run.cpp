@@ -33,7 +33,9 @@ void Run::add_input(const std::filesystem::path& path) {
   if (!options_.report_path.empty()) check_output(options_.report_path);
 }
 
-void Run::check_output(const std::filesystem::path& path) const { OutputFile probe(path, inputs_); }
+void Run::check_output(const std::filesystem::path& path) const {
+  OutputFile probe(path, inputs_);
+}
 
 TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs) {
   add_input(path);
@@ -53,7 +55,8 @@ TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequ
   if (auto unmet = unmet_requirement(prepared.check, needs))
     throw Failure(path.string() + ": " + *unmet);
   for (const auto& repair : prepared.check.repairs()) note(path.string() + ": " + repair);
-  for (const auto& warning : prepared.check.warnings()) note(path.string() + ": warning: " + warning);
+  for (const auto& warning : prepared.check.warnings())
+    note(path.string() + ": warning: " + warning);
   return std::move(prepared.mesh);
 }
 

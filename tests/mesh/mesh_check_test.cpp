@@ -91,7 +91,8 @@ TEST(MeshCheck, TwoFansAtOneVertexAreNonManifold) {
   EXPECT_EQ(c.components, 1u);
   const auto unmet = unmet_requirement(c, {.tool = "x"});
   ASSERT_TRUE(unmet);
-  EXPECT_EQ(*unmet, "1 non-manifold vertex (e.g. vertex 0), x needs one connected, orientable 2-manifold");
+  EXPECT_EQ(*unmet,
+            "1 non-manifold vertex (e.g. vertex 0), x needs one connected, orientable 2-manifold");
 }
 
 TEST(MeshCheck, SeparateTrianglesAreTwoComponents) {
@@ -127,8 +128,9 @@ TEST(MeshCheck, RequirementsNameTheDefect) {
   const MeshCheck c = prepare_mesh(s).check;
   EXPECT_EQ(unmet_requirement(c, {.tool = "gim-remesh", .closed = true}),
             "1 boundary loop, gim-remesh needs a closed surface");
-  EXPECT_EQ(unmet_requirement(prepare_mesh(tetrahedron()).check, {.tool = "torus-remesh", .genus = 1}),
-            "genus 0, torus-remesh needs genus 1");
+  EXPECT_EQ(
+      unmet_requirement(prepare_mesh(tetrahedron()).check, {.tool = "torus-remesh", .genus = 1}),
+      "genus 0, torus-remesh needs genus 1");
   EXPECT_FALSE(unmet_requirement(c, {.tool = "ism-info"}));
 }
 

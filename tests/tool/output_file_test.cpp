@@ -1,6 +1,6 @@
+#include "tool/output_file.hpp"
 #include "test_support.hpp"
 #include "tool/failure.hpp"
-#include "tool/output_file.hpp"
 #include "tool/tool.hpp"
 
 #include <gtest/gtest.h>
@@ -54,7 +54,9 @@ TEST(OutputFile, RefusesToOverwriteAnInput) {
   EXPECT_THROW(OutputFile(scratch_dir() / "no-such-folder" / "x.obj", {}), Failure);
 }
 
-TEST(Run, PeakMemoryIsReported) { EXPECT_GT(peak_memory_bytes(), 1u << 20); }
+TEST(Run, PeakMemoryIsReported) {
+  EXPECT_GT(peak_memory_bytes(), 1u << 20);
+}
 
 }  // namespace
 }  // namespace ism::tool

@@ -30,20 +30,26 @@ std::string slurp(const fs::path& p) {
 }
 
 Result run(const std::string& tool, const std::string& args) {
-  const fs::path out = scratch_dir() / "stdout.txt", err = scratch_dir() / "stderr.txt";
+  // One pair of files per test: ctest runs the tests of this file in parallel.
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const fs::path out = scratch_dir() / (test + ".stdout"), err = scratch_dir() / (test + ".stderr");
   const std::string cmd = (ism::test::binary_dir() / "bin" / tool).string() + " " + args + " >" +
                           out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
 }
 
-std::size_t lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+std::size_t lines(const std::string& s) {
+  return std::count(s.begin(), s.end(), '\n');
+}
 
 TEST(IsmInfo, ValidModelsExitZeroWithTheirGenus) {
   ISM_REQUIRE_SHARED_MODELS();
   const std::pair<const char*, const char*> cases[] = {
-      {"bunny_small.obj", "\"genus\": 0"}, {"bunny_open.obj", "\"boundary_loops\": 5"},
-      {"torus.obj", "\"genus\": 1"},       {"fertility.obj", "\"genus\": 4"},
+      {"bunny_small.obj", "\"genus\": 0"},
+      {"bunny_open.obj", "\"boundary_loops\": 5"},
+      {"torus.obj", "\"genus\": 1"},
+      {"fertility.obj", "\"genus\": 4"},
   };
   for (const auto& [file, expected] : cases) {
     SCOPED_TRACE(file);
@@ -93,7 +99,8 @@ TEST(Tools, WrongTopologyIsRefusedWithoutOutput) {
 }
 
 TEST(Tools, GeneratedMeshIsAValidSurfaceAndReportIsWritten) {
-  const fs::path mesh = scratch_dir() / "torus.obj", report = scratch_dir() / "report.json";
+  const fs::path mesh = scratch_dir() / "generated_torus.obj",
+                 report = scratch_dir() / "report.json";
   fs::remove(report);
   Result r = run("ism-genmesh", "torus --faces 2000 -o " + mesh.string());
   ASSERT_EQ(r.status, 0) << r.err;

@@ -20,9 +20,12 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::IsMember({"sphere", "ellipsoid", "blob", "torus", "double-torus"}));
   app.add_option("-o,--output", output, "Output mesh (.obj, .ply, .off, .stl)")->required();
-  app.add_option("--faces", faces, "Approximate number of faces")->check(CLI::Range(20, 50'000'000));
+  app.add_option("--faces", faces, "Approximate number of faces")
+      ->check(CLI::Range(20, 50'000'000));
   app.add_option("--radius", radius, "Sphere radius")->check(CLI::PositiveNumber);
-  app.add_option("--axes", axes, "Ellipsoid semi-axes a b c")->expected(3)->check(CLI::PositiveNumber);
+  app.add_option("--axes", axes, "Ellipsoid semi-axes a b c")
+      ->expected(3)
+      ->check(CLI::PositiveNumber);
   app.add_option("--R", major, "Torus major radius")->check(CLI::PositiveNumber);
   app.add_option("--r", minor, "Torus minor radius (< R)")->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "Blob seed");

@@ -12,7 +12,9 @@
 
 namespace {
 
-const char* yes_no(bool b) { return b ? "yes" : "no"; }
+const char* yes_no(bool b) {
+  return b ? "yes" : "no";
+}
 
 void print_check(const std::string& file, const ism::MeshCheck& c) {
   std::printf("%s\n", file.c_str());
@@ -20,13 +22,13 @@ void print_check(const std::string& file, const ism::MeshCheck& c) {
   std::printf("  components %zu, boundary loops %zu, Euler characteristic %ld, genus %s\n",
               c.components, c.boundary_loops, c.euler_characteristic,
               c.genus ? std::to_string(*c.genus).c_str() : "undefined");
-  std::printf("  manifold %s, orientable %s, closed %s\n", yes_no(c.manifold()), yes_no(c.orientable),
-              yes_no(c.closed()));
+  std::printf("  manifold %s, orientable %s, closed %s\n", yes_no(c.manifold()),
+              yes_no(c.orientable), yes_no(c.closed()));
   std::printf("  bounding-box diagonal %.6g, area %.6g\n", c.bounding_box_diagonal, c.area);
-  std::printf("  zero-area faces %zu, non-manifold edges %zu, non-manifold vertices %zu, "
-              "non-finite coordinates %zu\n",
-              c.degenerate_faces, c.nonmanifold_edges, c.nonmanifold_vertices,
-              c.nonfinite_coordinates);
+  std::printf(
+      "  zero-area faces %zu, non-manifold edges %zu, non-manifold vertices %zu, "
+      "non-finite coordinates %zu\n",
+      c.degenerate_faces, c.nonmanifold_edges, c.nonmanifold_vertices, c.nonfinite_coordinates);
   for (const auto& r : c.repairs()) std::printf("  repaired: %s\n", r.c_str());
   for (const auto& w : c.warnings()) std::printf("  warning: %s\n", w.c_str());
   for (const auto& d : c.defects()) std::printf("  defect: %s\n", d.c_str());
