@@ -1,0 +1,125 @@
+// Automatic features for the octahedral domain: the surface vertices at the
+// extremes of the three principal axes (well separated on any shape that is
+// not nearly round), assigned to ±x, ±y, ±z of domain::octahedron(). Both
+// chiralities are traced and the valid one with the shorter network wins; if
+// the extremes coincide or neither works, farthest-point samples on geodesic
+// distance are tried.
+#include "domain/domain.hpp"
+#include "partition/partition.hpp"
+#include "partition/patches.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <queue>
+#include <set>
+
+namespace ism {
+namespace {
+
+// Vertices at the ends of the principal axes, as +x, -x, +y, -y, +z, -z of a
+// right-handed frame.
+std::vector<int> principal_extremes(const TriangleMesh& surface) {
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : surface.positions) mean += p;
+  mean /= double(surface.n_vertices());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : surface.positions) covariance += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Eigen::Matrix3d axes = solver.eigenvectors().rowwise().reverse();  // largest first
+  if (axes.col(0).cross(axes.col(1)).dot(axes.col(2)) < 0) axes.col(2) *= -1;
+  std::vector<int> features;
+  for (int k = 0; k < 3; ++k) {
+    int best_max = 0, best_min = 0;
+    for (std::size_t v = 0; v < surface.n_vertices(); ++v) {
+      const double s = axes.col(k).dot(surface.positions[v] - mean);
+      if (s > axes.col(k).dot(surface.positions[best_max] - mean)) best_max = int(v);
+      if (s < axes.col(k).dot(surface.positions[best_min] - mean)) best_min = int(v);
+    }
+    features.push_back(best_max);
+    features.push_back(best_min);
+  }
+  return features;
+}
+
+// Farthest-point sampling on edge-path (geodesic) distance, paired so that
+// each sample's antipode is the sample farthest from it.
+std::vector<int> farthest_points(const TriangleMesh& surface, int first) {
+  const std::size_t n = surface.n_vertices();
+  std::vector<std::vector<std::pair<int, double>>> adjacency(n);
+  for (const Triangle& t : surface.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a < b) {
+        const double l = (surface.positions[a] - surface.positions[b]).norm();
+        adjacency[a].push_back({b, l});
+        adjacency[b].push_back({a, l});
+      }
+    }
+  auto distances_from = [&](int source) {
+    std::vector<double> d(n, HUGE_VAL);
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+    d[source] = 0;
+    open.push({0, source});
+    while (!open.empty()) {
+      auto [dv, v] = open.top();
+      open.pop();
+      if (dv > d[v]) continue;
+      for (auto [w, l] : adjacency[v])
+        if (dv + l < d[w]) open.push({d[w] = dv + l, w});
+    }
+    return d;
+  };
+  std::vector<int> samples{first};
+  std::vector<std::vector<double>> from;
+  std::vector<double> nearest(n, HUGE_VAL);
+  while (samples.size() < 6) {
+    from.push_back(distances_from(samples.back()));
+    for (std::size_t v = 0; v < n; ++v) nearest[v] = std::min(nearest[v], from.back()[v]);
+    samples.push_back(int(std::max_element(nearest.begin(), nearest.end()) - nearest.begin()));
+  }
+  from.push_back(distances_from(samples.back()));
+  // Pair greedily: the first sample with its farthest, then the next pair.
+  std::vector<int> ordered;
+  std::vector<char> used(6, 0);
+  for (int i = 0; i < 6; ++i) {
+    if (used[i]) continue;
+    int partner = -1;
+    for (int j = 0; j < 6; ++j)
+      if (j != i && !used[j] && (partner < 0 || from[i][samples[j]] > from[i][samples[partner]]))
+        partner = j;
+    used[i] = used[partner] = 1;
+    ordered.push_back(samples[i]);
+    ordered.push_back(samples[partner]);
+  }
+  return ordered;
+}
+
+}  // namespace
+
+PathNetwork trace_octahedral_network(const TriangleMesh& surface, const PartitionOptions& options) {
+  const TriangleMesh octahedron = domain::octahedron();
+  std::vector<std::vector<int>> attempts;
+  std::vector<int> extremes = principal_extremes(surface);
+  if (std::set<int>(extremes.begin(), extremes.end()).size() == 6) attempts.push_back(extremes);
+  attempts.push_back(farthest_points(surface, extremes[0]));
+
+  std::optional<PathNetwork> best;
+  std::string last_error;
+  for (const auto& features : attempts) {
+    for (int chirality = 0; chirality < 2; ++chirality) {
+      std::vector<int> assigned = features;
+      if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
+      try {
+        PathNetwork network = trace_path_network(surface, octahedron, assigned, options);
+        if (!best || network.total_length() < best->total_length()) best = std::move(network);
+      } catch (const PartitionError& e) {
+        last_error = e.what();
+      }
+    }
+    if (best) return std::move(*best);
+  }
+  throw PartitionError("no octahedral path network found: " + last_error);
+}
+
+}  // namespace ism

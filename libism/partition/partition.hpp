@@ -1,0 +1,67 @@
+#pragma once
+// Consistent path network (paper §4): one path on the surface M² per edge of
+// the domain M¹, meeting only at features, leaving each feature in the cyclic
+// order M¹ prescribes, so that the paths cut M² into one disc per face of M¹.
+#include "mesh/triangle_mesh.hpp"
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ism {
+
+/// A network that cannot be built (bad features, unrealisable order); the
+/// message says why in words a user can act on.
+class PartitionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct PathNetwork {
+  /// M² with the Steiner vertices that paths needed: the input's vertices keep
+  /// their indices, Steiner vertices (edge midpoints, inserted by edge splits)
+  /// are appended after them. Faces are re-indexed.
+  TriangleMesh surface;
+  std::size_t original_vertices = 0;
+  /// Surface vertex of domain vertex i.
+  std::vector<int> features;
+  /// Domain edges (a < b) and, for each, its path as surface vertices from
+  /// features[a] to features[b].
+  std::vector<std::array<int, 2>> domain_edges;
+  std::vector<std::vector<int>> paths;
+  /// Domain face of each surface face.
+  std::vector<int> face_patch;
+
+  std::size_t steiner_vertices() const { return surface.n_vertices() - original_vertices; }
+  /// Total 3D length of the paths.
+  double total_length() const;
+};
+
+struct PartitionOptions {
+  /// Progress callback with the fraction of paths traced (may be empty).
+  std::function<void(double)> progress;
+};
+
+/// Traces the network of `domain`'s connectivity on `surface` between the
+/// given features (features[i] is the surface vertex of domain vertex i).
+/// Throws PartitionError for duplicate or out-of-range features, a wrong
+/// count, a genus or boundary mismatch, or an order that cannot be realised.
+PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& domain,
+                               const std::vector<int>& features,
+                               const PartitionOptions& options = {});
+
+/// Six well-separated surface vertices for the octahedron of
+/// domain::octahedron() and the network they give: the valid assignment with
+/// the shortest total path length among those tried.
+PathNetwork trace_octahedral_network(const TriangleMesh& surface,
+                                     const PartitionOptions& options = {});
+
+/// Checks a network: every patch a disc bounded by the three paths of its
+/// domain face with the same orientation, paths disjoint but at features.
+/// Returns the first problem found, or nothing.
+std::optional<std::string> validate_network(const PathNetwork& network, const TriangleMesh& domain);
+
+}  // namespace ism

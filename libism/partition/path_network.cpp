@@ -1,0 +1,432 @@
+// Tracing the consistent path network (paper §4, after Praun et al. 2001 and
+// Kraevoy et al. 2003).
+//
+// Greedy by length: candidate paths wait in a queue; the shortest is checked
+// (still free of the network, leaving and entering its features in the right
+// sectors) and recomputed when stale. The first k-1+2g paths must not
+// separate the surface (a spanning tree of the features first, then the 2g
+// non-separating cycles); every later path must split one region in two. This
+// ordering is what guarantees that the network can be completed.
+//
+// Steiner vertices are inserted eagerly: after each path, every edge that
+// joins two network vertices without being a path edge is split at its
+// midpoint, so each sector between two paths keeps a free vertex and no later
+// path is ever blocked by an edge it cannot cross.
+#include "mesh/union_find.hpp"
+#include "partition/partition.hpp"
+#include "partition/patches.hpp"
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <set>
+
+namespace ism {
+namespace {
+
+using namespace partition_detail;
+
+struct Traits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::None);
+  FaceAttributes(OpenMesh::Attributes::None);
+  EdgeAttributes(OpenMesh::Attributes::None);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+};
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
+using VH = Mesh::VertexHandle;
+using HH = Mesh::HalfedgeHandle;
+
+struct Candidate {
+  double length;
+  int edge;
+  std::vector<int> vertices;
+  bool operator>(const Candidate& o) const {
+    return length != o.length ? length > o.length : edge > o.edge;
+  }
+};
+
+class NetworkTracer {
+ public:
+  NetworkTracer(const TriangleMesh& surface, const TriangleMesh& domain,
+                const std::vector<int>& features)
+      : domain_(domain), features_(features) {
+    for (const Vec3& p : surface.positions) mesh_.add_vertex({p.x(), p.y(), p.z()});
+    for (const Triangle& t : surface.triangles)
+      if (!mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2])).is_valid())
+        throw PartitionError("the surface is not a manifold triangle mesh");
+    original_vertices_ = surface.n_vertices();
+    on_network_.assign(mesh_.n_vertices(), 0);
+    for (int f : features_) on_network_[f] = 1;
+    build_domain_rings();
+    long chi = long(surface.n_vertices()) - long(mesh_.n_edges()) + long(surface.n_faces());
+    genus_ = int((2 - chi) / 2);
+    non_separating_paths_ = int(features_.size()) - 1 + 2 * genus_;
+  }
+
+  PathNetwork run(const std::function<void(double)>& progress);
+
+ private:
+  void build_domain_rings();
+  int traced_neighbour_before(int i, int j, int direction) const;
+  VH first_step(int e, int i) const;
+  std::vector<char> allowed_ring(int i, int j);
+  std::optional<Candidate> shortest_path(int e);
+  bool still_valid(const Candidate& c);
+  int count_regions() const;
+  void insert(const Candidate& c);
+  void split_edges_between_network_vertices();
+  PathNetwork result() const;
+
+  Mesh mesh_;
+  const TriangleMesh& domain_;
+  std::vector<int> features_;
+  std::size_t original_vertices_ = 0;
+  int genus_ = 0, non_separating_paths_ = 0;
+  std::vector<std::array<int, 2>> domain_edges_;
+  std::map<std::pair<int, int>, int> edge_index_;
+  std::vector<std::vector<int>> ring_;  // ccw domain neighbours of each domain vertex
+  std::vector<std::vector<int>> paths_;
+  std::vector<char> on_network_;
+  std::unordered_set<std::uint64_t> network_edges_;
+  int traced_ = 0;
+  // Dijkstra scratch, reused across searches.
+  std::vector<double> distance_;
+  std::vector<int> parent_;
+  std::vector<unsigned> stamp_;
+  unsigned search_ = 0;
+};
+
+void NetworkTracer::build_domain_rings() {
+  const int n = int(domain_.n_vertices());
+  std::vector<std::map<int, int>> next(n);  // ccw successor around each vertex
+  for (const Triangle& t : domain_.triangles)
+    for (int k = 0; k < 3; ++k) next[t[k]][t[(k + 1) % 3]] = t[(k + 2) % 3];
+  ring_.assign(n, {});
+  for (int i = 0; i < n; ++i) {
+    if (next[i].empty()) throw PartitionError("domain vertex " + std::to_string(i) + " has no faces");
+    int start = next[i].begin()->first, a = start;
+    do {
+      ring_[i].push_back(a);
+      auto it = next[i].find(a);
+      if (it == next[i].end() || ring_[i].size() > next[i].size())
+        throw PartitionError("the domain is not a closed manifold mesh");
+      a = it->second;
+    } while (a != start);
+    if (ring_[i].size() != next[i].size()) throw PartitionError("the domain is not a closed manifold mesh");
+    for (int b : ring_[i])
+      if (i < b) {
+        edge_index_[{i, b}] = int(domain_edges_.size());
+        domain_edges_.push_back({i, b});
+      }
+  }
+  paths_.assign(domain_edges_.size(), {});
+}
+
+int edge_of(const std::map<std::pair<int, int>, int>& index, int a, int b) {
+  return index.at({std::min(a, b), std::max(a, b)});
+}
+
+// The nearest traced neighbour of i before (direction -1) or after (+1) j in
+// i's ccw ring; -1 if none.
+int NetworkTracer::traced_neighbour_before(int i, int j, int direction) const {
+  const auto& ring = ring_[i];
+  const int n = int(ring.size());
+  const int k = int(std::find(ring.begin(), ring.end(), j) - ring.begin());
+  for (int t = 1; t < n; ++t) {
+    int b = ring[((k + direction * t) % n + n) % n];
+    if (!paths_[edge_of(edge_index_, i, b)].empty()) return b;
+  }
+  return -1;
+}
+
+// The surface vertex after feature i on the traced path of domain edge e.
+VH NetworkTracer::first_step(int e, int i) const {
+  const auto& path = paths_[e];
+  return VH(path.front() == features_[i] ? path[1] : path[path.size() - 2]);
+}
+
+// Ring vertices of feature i through which a path to domain neighbour j may
+// leave: those strictly inside the sector between the traced paths that
+// surround j in the domain's cyclic order.
+std::vector<char> NetworkTracer::allowed_ring(int i, int j) {
+  std::vector<char> allowed(mesh_.n_vertices(), 0);
+  const VH f(features_[i]);
+  const int before = traced_neighbour_before(i, j, -1);
+  if (before < 0) {
+    for (VH w : mesh_.vv_range(f)) allowed[w.idx()] = 1;
+    return allowed;
+  }
+  const int after = traced_neighbour_before(i, j, +1);
+  const VH from = first_step(edge_of(edge_index_, i, before), i);
+  const VH to = first_step(edge_of(edge_index_, i, after), i);
+  HH h = mesh_.find_halfedge(f, from);
+  for (h = mesh_.ccw_rotated_halfedge_handle(h); mesh_.to_vertex_handle(h) != to;
+       h = mesh_.ccw_rotated_halfedge_handle(h))
+    allowed[mesh_.to_vertex_handle(h).idx()] = 1;
+  return allowed;
+}
+
+// A* (Euclidean heuristic) from feature a to feature b of domain edge e,
+// through free vertices only, leaving and entering in the right sectors.
+std::optional<Candidate> NetworkTracer::shortest_path(int e) {
+  const auto [a, b] = domain_edges_[e];
+  const VH source(features_[a]), target(features_[b]);
+  const std::vector<char> leave = allowed_ring(a, b), enter = allowed_ring(b, a);
+  const std::size_t n = mesh_.n_vertices();
+  if (distance_.size() < n) {
+    distance_.resize(n);
+    parent_.resize(n);
+    stamp_.resize(n, 0);
+  }
+  ++search_;
+  const auto& goal = mesh_.point(target);
+  auto heuristic = [&](VH v) { return (mesh_.point(v) - goal).norm(); };
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  stamp_[source.idx()] = search_;
+  distance_[source.idx()] = 0.0;
+  parent_[source.idx()] = -1;
+  open.push({heuristic(source), source.idx()});
+  while (!open.empty()) {
+    const auto [key, vi] = open.top();
+    open.pop();
+    const VH v(vi);
+    const double dv = distance_[vi];
+    if (key > dv + heuristic(v) + 1e-12 * (1 + key)) continue;  // stale entry
+    if (v == target) break;
+    for (VH w : mesh_.vv_range(v)) {
+      const int wi = w.idx();
+      if (v == source && !leave[wi]) continue;
+      if (w == target) {
+        if (!enter[vi]) continue;
+      } else if (on_network_[wi]) {
+        continue;
+      }
+      const double dw = dv + (mesh_.point(w) - mesh_.point(v)).norm();
+      if (stamp_[wi] != search_ || dw < distance_[wi]) {
+        stamp_[wi] = search_;
+        distance_[wi] = dw;
+        parent_[wi] = vi;
+        open.push({dw + heuristic(w), wi});
+      }
+    }
+  }
+  if (stamp_[target.idx()] != search_) return std::nullopt;
+  Candidate c{distance_[target.idx()], e, {}};
+  for (int v = target.idx(); v >= 0; v = parent_[v]) c.vertices.push_back(v);
+  std::reverse(c.vertices.begin(), c.vertices.end());
+  return c;
+}
+
+bool NetworkTracer::still_valid(const Candidate& c) {
+  for (std::size_t k = 1; k + 1 < c.vertices.size(); ++k)
+    if (on_network_[c.vertices[k]]) return false;
+  for (std::size_t k = 1; k < c.vertices.size(); ++k)
+    if (!mesh_.find_halfedge(VH(c.vertices[k - 1]), VH(c.vertices[k])).is_valid()) return false;
+  const auto [a, b] = domain_edges_[c.edge];
+  return allowed_ring(a, b)[c.vertices[1]] && allowed_ring(b, a)[c.vertices[c.vertices.size() - 2]];
+}
+
+int NetworkTracer::count_regions() const {
+  // Flood fill over faces, across edges that are not on the network.
+  std::vector<int> region(mesh_.n_faces(), -1);
+  int count = 0;
+  std::vector<Mesh::FaceHandle> stack;
+  for (auto f0 : mesh_.faces()) {
+    if (region[f0.idx()] >= 0) continue;
+    region[f0.idx()] = count;
+    stack.push_back(f0);
+    while (!stack.empty()) {
+      auto f = stack.back();
+      stack.pop_back();
+      for (HH h : mesh_.fh_range(f)) {
+        const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
+        if (network_edges_.count(undirected_key(a, b))) continue;
+        auto g = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+        if (g.is_valid() && region[g.idx()] < 0) {
+          region[g.idx()] = count;
+          stack.push_back(g);
+        }
+      }
+    }
+    ++count;
+  }
+  return count;
+}
+
+void NetworkTracer::insert(const Candidate& c) {
+  paths_[c.edge] = c.vertices;
+  for (std::size_t k = 0; k < c.vertices.size(); ++k) {
+    on_network_[c.vertices[k]] = 1;
+    if (k) network_edges_.insert(undirected_key(c.vertices[k - 1], c.vertices[k]));
+  }
+  ++traced_;
+}
+
+void NetworkTracer::split_edges_between_network_vertices() {
+  std::vector<Mesh::EdgeHandle> to_split;
+  for (auto e : mesh_.edges()) {
+    const VH a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
+    const VH b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
+    if (on_network_[a.idx()] && on_network_[b.idx()] &&
+        !network_edges_.count(undirected_key(a.idx(), b.idx())))
+      to_split.push_back(e);
+  }
+  for (auto e : to_split) {
+    const VH a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
+    const VH b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
+    const VH m = mesh_.add_vertex((mesh_.point(a) + mesh_.point(b)) * 0.5);
+    mesh_.split(e, m);
+    on_network_.push_back(0);
+  }
+}
+
+PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
+  const int total = int(domain_edges_.size());
+  UnionFind joined(features_.size());
+  int components = int(features_.size());
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
+  std::vector<int> waiting;  // edges to (re)compute before the next choice
+  for (int e = 0; e < total; ++e) waiting.push_back(e);
+
+  while (traced_ < total) {
+    for (int e : waiting)
+      if (auto c = shortest_path(e)) queue.push(std::move(*c));
+    waiting.clear();
+    std::vector<int> deferred;
+    bool inserted = false;
+    while (!queue.empty() && !inserted) {
+      Candidate c = queue.top();
+      queue.pop();
+      if (!paths_[c.edge].empty()) continue;
+      const auto [a, b] = domain_edges_[c.edge];
+      const bool joins_components = joined.find(a) != joined.find(b);
+      // A cycle waits until the features are all connected (tree first).
+      if (!joins_components && components > 1) {
+        deferred.push_back(c.edge);
+        continue;
+      }
+      if (!still_valid(c)) {
+        if (auto fresh = shortest_path(c.edge)) queue.push(std::move(*fresh));
+        else deferred.push_back(c.edge);
+        continue;
+      }
+      insert(c);
+      const int expected = traced_ <= non_separating_paths_ ? 1 : traced_ - non_separating_paths_ + 1;
+      if (count_regions() != expected) {
+        // Separating too early, or not splitting a region: undo, try others.
+        paths_[c.edge].clear();
+        --traced_;
+        on_network_.assign(on_network_.size(), 0);
+        network_edges_.clear();
+        for (int f : features_) on_network_[f] = 1;
+        for (const auto& p : paths_) {
+          for (std::size_t k = 0; k < p.size(); ++k) {
+            on_network_[p[k]] = 1;
+            if (k) network_edges_.insert(undirected_key(p[k - 1], p[k]));
+          }
+        }
+        deferred.push_back(c.edge);
+        continue;
+      }
+      if (joins_components) {
+        joined.unite(a, b);
+        --components;
+      }
+      split_edges_between_network_vertices();
+      inserted = true;
+      if (progress) progress(double(traced_) / total);
+    }
+    if (!inserted) {
+      const auto [a, b] = domain_edges_[deferred.empty() ? 0 : deferred.front()];
+      throw PartitionError("cannot trace the path between features " + std::to_string(a) + " and " +
+                           std::to_string(b) +
+                           ": the features' order cannot be realised on the surface");
+    }
+    // Everything deferred gets another chance now that the network changed;
+    // queued candidates are re-checked lazily when they come up.
+    waiting = std::move(deferred);
+  }
+  return result();
+}
+
+PathNetwork NetworkTracer::result() const {
+  PathNetwork net;
+  for (VH v : mesh_.vertices()) {
+    const auto& p = mesh_.point(v);
+    net.surface.positions.push_back({p[0], p[1], p[2]});
+  }
+  for (auto f : mesh_.faces()) {
+    Triangle t;
+    int k = 0;
+    for (VH v : mesh_.fv_range(f)) t[k++] = v.idx();
+    net.surface.triangles.push_back(t);
+  }
+  net.original_vertices = original_vertices_;
+  net.features = features_;
+  net.domain_edges = domain_edges_;
+  net.paths = paths_;
+
+  // Label patches: the face left of each path edge belongs to the domain
+  // face left of the domain edge, and labels spread across non-path edges.
+  std::map<std::pair<int, int>, int> left_face;
+  for (std::size_t f = 0; f < domain_.n_faces(); ++f)
+    for (int k = 0; k < 3; ++k)
+      left_face[{domain_.triangles[f][k], domain_.triangles[f][(k + 1) % 3]}] = int(f);
+  int count = 0;
+  const std::vector<int> region = regions(net.surface, network_edges_, &count);
+  const auto faces = directed_edge_faces(net.surface);
+  std::vector<int> label(count, -1);
+  for (std::size_t e = 0; e < paths_.size(); ++e) {
+    const auto [a, b] = domain_edges_[e];
+    const auto& path = paths_[e];
+    label[region[faces.at(directed_key(path[0], path[1]))]] = left_face.at({a, b});
+    label[region[faces.at(directed_key(path[1], path[0]))]] = left_face.at({b, a});
+  }
+  net.face_patch.resize(net.surface.n_faces());
+  for (std::size_t f = 0; f < net.surface.n_faces(); ++f) net.face_patch[f] = label[region[f]];
+  return net;
+}
+
+}  // namespace
+
+PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& domain,
+                               const std::vector<int>& features, const PartitionOptions& options) {
+  if (features.size() != domain.n_vertices())
+    throw PartitionError(std::to_string(features.size()) + " features given, the domain has " +
+                         std::to_string(domain.n_vertices()) + " vertices");
+  std::set<int> seen;
+  for (std::size_t i = 0; i < features.size(); ++i) {
+    if (features[i] < 0 || std::size_t(features[i]) >= surface.n_vertices())
+      throw PartitionError("feature " + std::to_string(i) + ": vertex index " +
+                           std::to_string(features[i]) + " out of range (the surface has " +
+                           std::to_string(surface.n_vertices()) + " vertices)");
+    if (!seen.insert(features[i]).second)
+      throw PartitionError("features " + std::to_string(i) + " and another one are the same vertex " +
+                           std::to_string(features[i]));
+  }
+  // Genus of both sides (closed surfaces: chi = V - E + F = 2 - 2g).
+  auto euler = [](const TriangleMesh& m) {
+    std::unordered_set<std::uint64_t> edges;
+    for (const Triangle& t : m.triangles)
+      for (int k = 0; k < 3; ++k) edges.insert(undirected_key(t[k], t[(k + 1) % 3]));
+    std::set<int> used;
+    for (const Triangle& t : m.triangles) used.insert(t.begin(), t.end());
+    return long(used.size()) - long(edges.size()) + long(m.n_faces());
+  };
+  const long chi_surface = euler(surface), chi_domain = euler(domain);
+  if (chi_surface != chi_domain)
+    throw PartitionError("the surface has genus " + std::to_string((2 - chi_surface) / 2) +
+                         ", the domain genus " + std::to_string((2 - chi_domain) / 2));
+  NetworkTracer tracer(surface, domain, features);
+  PathNetwork network = tracer.run(options.progress);
+  if (auto problem = validate_network(network, domain))
+    throw PartitionError("the traced network is invalid: " + *problem);
+  return network;
+}
+
+}  // namespace ism
