@@ -5,6 +5,7 @@
 #include "mesh/polygon_soup.hpp"
 #include "mesh/triangle_mesh.hpp"
 
+#include <array>
 #include <filesystem>
 #include <stdexcept>
 
@@ -26,5 +27,13 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 /// extension. Throws FileError. Callers that must not leave partial files
 /// write to a temporary name first (see tool/output_file.hpp).
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
+
+/// 8-bit RGB colour.
+using Rgb = std::array<unsigned char, 3>;
+
+/// Writes an ASCII PLY with per-vertex and per-face colours (either list may
+/// be empty), for looking at partitions in MeshLab or Blender.
+void write_colored_ply(const TriangleMesh& mesh, const std::vector<Rgb>& vertex_colors,
+                       const std::vector<Rgb>& face_colors, const std::filesystem::path& path);
 
 }  // namespace ism::io

@@ -3,6 +3,7 @@
 // counter-clockwise (outward) triangles. No topology is cached here; stages
 // that need adjacency build it themselves.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <vector>

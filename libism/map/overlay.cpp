@@ -1,0 +1,72 @@
+#include "map/overlay.hpp"
+
+#include <cmath>
+
+namespace ism {
+
+double polygon_area(const std::vector<Vec2>& polygon) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec2& a = polygon[i];
+    const Vec2& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+
+std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle) {
+  for (int k = 0; k < 3 && !polygon.empty(); ++k) {
+    const Vec2& a = triangle[k];
+    const Vec2& b = triangle[(k + 1) % 3];
+    std::vector<Vec2> out;
+    for (std::size_t i = 0; i < polygon.size(); ++i) {
+      const Vec2& p = polygon[i];
+      const Vec2& q = polygon[(i + 1) % polygon.size()];
+      const double sp = orient(a, b, p), sq = orient(a, b, q);
+      if (sp >= 0) out.push_back(p);
+      if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+    }
+    polygon = std::move(out);
+  }
+  return polygon;
+}
+
+bool for_each_piece(const SurfaceMap& map, int t,
+                    const std::function<void(const OverlayPiece&)>& visit) {
+  SurfaceMap::FaceChart chart;
+  if (!map.face_chart(t, chart)) return false;
+  const DomainGeometry& domain = map.domain();
+  const std::vector<Vec2> triangle(chart.corner.begin(), chart.corner.end());
+  const double area = std::abs(polygon_area(triangle));
+  const double tiny = 1e-14 * std::max(area, domain.total_area() * 1e-12);
+  // Breadth-first over the M¹ faces the triangle covers, unfolded into its
+  // chart; a face is identified by its id and the position of its layout.
+  std::vector<std::pair<int, std::array<Vec2, 3>>> queue{{chart.start_face, chart.start_layout}};
+  // Copies of one M¹ face are told apart by where their layout sits.
+  const double same = 1e-6 * std::sqrt(domain.total_area());
+  std::vector<std::pair<int, Vec2>> seen;
+  auto first_visit = [&](int f, const std::array<Vec2, 3>& l) {
+    const Vec2 c = (l[0] + l[1] + l[2]) / 3.0;
+    for (const auto& [g, d] : seen)
+      if (g == f && (d - c).norm() < same) return false;
+    seen.push_back({f, c});
+    return true;
+  };
+  first_visit(chart.start_face, chart.start_layout);
+  for (std::size_t i = 0; i < queue.size(); ++i) {
+    const auto [f, layout] = queue[i];
+    OverlayPiece piece{f, layout, clip_to_triangle(triangle, layout), 0.0};
+    piece.area = polygon_area(piece.polygon);
+    if (piece.area <= tiny && i > 0) continue;  // touches only: do not spread from here
+    if (piece.area > tiny) visit(piece);
+    for (int k = 0; k < 3; ++k) {
+      const auto next = domain.unfold(f, layout, k);
+      const int g = domain.neighbour(f, k);
+      if (first_visit(g, next)) queue.push_back({g, next});
+    }
+    if (queue.size() > 4 * domain.n_faces() + 64) return false;  // runaway: not a flat region
+  }
+  return true;
+}
+
+}  // namespace ism

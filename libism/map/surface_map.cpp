@@ -1,0 +1,477 @@
+#include "map/surface_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+namespace ism {
+
+namespace {
+
+constexpr double kInside = -1e-10;  // barycentric tolerance of point-in-face tests
+
+bool inside(const Eigen::Vector3d& b) { return b.minCoeff() >= kInside; }
+
+}  // namespace
+
+// ---------------------------------------------------------------- set-up
+
+SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, MapOptions options)
+    : domain_(domain), pm_(pm), options_(options) {
+  const std::size_t n = pm.base.n_vertices();
+  positions_ = pm.base.positions;
+  vertex_faces_.assign(n, {});
+  location_.assign(n, {});
+  at_domain_vertex_.assign(n, -1);
+  pinned_.assign(n, 0);
+  if (pm.base_vertices.size() != domain.n_vertices())
+    throw std::invalid_argument("the base mesh and the domain have different vertex counts");
+
+  std::vector<int> domain_vertex_of(n, -1);
+  for (std::size_t i = 0; i < pm.base_vertices.size(); ++i) {
+    const int v = pm.base_vertices[i];
+    domain_vertex_of[v] = int(i);
+    at_domain_vertex_[v] = int(i);
+    const auto& entry = domain.fan(int(i)).front();
+    location_[v].face = entry.face;
+    location_[v].bary = Eigen::Vector3d::Zero();
+    location_[v].bary[entry.corner] = 1.0;
+    pinned_[v] = domain.is_cone(int(i)) || !options_.release_features;
+  }
+  std::map<std::array<int, 3>, int> domain_face;
+  for (std::size_t f = 0; f < domain.n_faces(); ++f) {
+    std::array<int, 3> t = domain.mesh().triangles[f];
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    domain_face[t] = int(f);
+  }
+  for (const Triangle& t : pm.base.triangles) {
+    std::array<int, 3> d{domain_vertex_of[t[0]], domain_vertex_of[t[1]], domain_vertex_of[t[2]]};
+    const int shift = int(std::min_element(d.begin(), d.end()) - d.begin());
+    std::array<int, 3> key = d;
+    std::rotate(key.begin(), key.begin() + shift, key.end());
+    auto it = domain_face.find(key);
+    if (it == domain_face.end()) throw std::invalid_argument("base face is not a domain face");
+    const int f = int(faces_.size());
+    add_face(t);
+    // Each base half-edge runs along a domain edge: it is kept in the domain
+    // face on its left, the face it bounds.
+    for (int k = 0; k < 3; ++k) walks_[f][k].start_face = it->second;
+  }
+  active_vertices_ = pm.base_vertices.size();
+  for (std::size_t f = 0; f < faces_.size(); ++f) {
+    const Triangle& t = faces_[f];
+    surface_area_ += 0.5 * (positions_[t[1]] - positions_[t[0]])
+                               .cross(positions_[t[2]] - positions_[t[0]])
+                               .norm();
+  }
+}
+
+void SurfaceMap::add_face(const Triangle& t) {
+  const int f = int(faces_.size());
+  faces_.push_back(t);
+  walks_.push_back({});
+  for (int v : t) vertex_faces_[v].push_back(f);
+}
+
+int SurfaceMap::corner_of(int f, int v) const {
+  const Triangle& t = faces_[f];
+  return t[0] == v ? 0 : t[1] == v ? 1 : 2;
+}
+
+int SurfaceMap::face_after(int v, int x) const {
+  for (int f : vertex_faces_[v])
+    if (faces_[f][(corner_of(f, v) + 1) % 3] == x) return f;
+  return -1;
+}
+
+std::vector<int> SurfaceMap::neighbours(int v) const {
+  std::vector<int> out;
+  if (vertex_faces_[v].empty()) return out;
+  const int f0 = vertex_faces_[v].front();
+  int f = f0;
+  do {
+    const int c = corner_of(f, v);
+    out.push_back(faces_[f][(c + 1) % 3]);
+    f = face_after(v, faces_[f][(c + 2) % 3]);
+  } while (f != f0 && f >= 0 && out.size() <= vertex_faces_[v].size());
+  return out;
+}
+
+// ---------------------------------------------------------------- walks
+
+int SurfaceMap::fan_index(int x, int face) const {
+  const auto& fan = domain_.fan(x);
+  for (std::size_t i = 0; i < fan.size(); ++i)
+    if (fan[i].face == face) return int(i);
+  return -1;
+}
+
+std::array<Vec2, 3> SurfaceMap::start_layout_of(int v, int face) const {
+  const int x = at_domain_vertex_[v];
+  if (x < 0) return domain_.layout(face);
+  return domain_.fan_layout(x, fan_index(x, face));
+}
+
+Vec2 SurfaceMap::position_in(int v, int face, const std::array<Vec2, 3>& layout) const {
+  const int x = at_domain_vertex_[v];
+  if (x >= 0) {
+    const Triangle& t = domain_.mesh().triangles[face];
+    return layout[t[0] == x ? 0 : t[1] == x ? 1 : 2];
+  }
+  const Eigen::Vector3d& b = location_[v].bary;
+  return b[0] * layout[0] + b[1] * layout[1] + b[2] * layout[2];
+}
+
+SurfaceMap::WalkEnd SurfaceMap::follow(const EdgeWalk& walk,
+                                        const std::array<Vec2, 3>& start_layout) const {
+  WalkEnd end{walk.start_face, start_layout};
+  for (int i = 0; i < walk.count; ++i) {
+    const int k = walk.exit(i);
+    end.layout = domain_.unfold(end.face, end.layout, k);
+    end.face = domain_.neighbour(end.face, k);
+  }
+  return end;
+}
+
+EdgeWalk SurfaceMap::reversed(const EdgeWalk& walk) const {
+  std::array<int, EdgeWalk::kMaxCrossings + 1> face;
+  std::array<int, EdgeWalk::kMaxCrossings> entry;
+  face[0] = walk.start_face;
+  for (int i = 0; i < walk.count; ++i) {
+    const int k = walk.exit(i);
+    entry[i] = domain_.neighbour_edge(face[i], k);
+    face[i + 1] = domain_.neighbour(face[i], k);
+  }
+  EdgeWalk out;
+  out.start_face = face[walk.count];
+  for (int i = walk.count - 1; i >= 0; --i) out.push(entry[i]);
+  return out;
+}
+
+bool SurfaceMap::trace(int face, std::array<Vec2, 3> layout, const Vec2& from, const Vec2& to,
+                       EdgeWalk& walk, WalkEnd& end) const {
+  walk = EdgeWalk{};
+  walk.start_face = face;
+  int entry = -1;
+  for (int guard = 0; guard <= EdgeWalk::kMaxCrossings; ++guard) {
+    if (inside(barycentric(to, layout[0], layout[1], layout[2]))) {
+      end = {face, layout};
+      return true;
+    }
+    int exit = -1;
+    double most_outside = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if (k == entry) continue;
+      const Vec2 &a = layout[k], &b = layout[(k + 1) % 3];
+      const double side = orient(a, b, to);
+      if (side >= 0) continue;  // `to` is not beyond this edge
+      const double sa = orient(from, to, a), sb = orient(from, to, b);
+      if (sa * sb <= 0) {  // the segment passes between a and b
+        exit = k;
+        break;
+      }
+      if (exit < 0 || side < most_outside) most_outside = side, exit = k;  // numerical fallback
+    }
+    if (exit < 0 || !walk.push(exit)) return false;
+    layout = domain_.unfold(face, layout, exit);
+    entry = domain_.neighbour_edge(face, exit);
+    face = domain_.neighbour(face, exit);
+  }
+  return false;
+}
+
+bool SurfaceMap::rotate_to(int x, int& face, std::array<Vec2, 3>& layout, int target,
+                           bool clockwise) const {
+  const std::size_t steps = domain_.fan(x).size();
+  for (std::size_t i = 0; i <= steps; ++i) {
+    if (face == target) return true;
+    const Triangle& t = domain_.mesh().triangles[face];
+    const int c = t[0] == x ? 0 : t[1] == x ? 1 : 2;
+    const int k = clockwise ? c : (c + 2) % 3;
+    layout = domain_.unfold(face, layout, k);
+    face = domain_.neighbour(face, k);
+  }
+  return false;
+}
+
+void SurfaceMap::set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p) {
+  Eigen::Vector3d b = barycentric(p, layout[0], layout[1], layout[2]);
+  // Keep vertices strictly inside their face so that point-in-face tests
+  // never hesitate between two faces.
+  b = b.cwiseMax(1e-12);
+  b /= b.sum();
+  location_[v] = {face, b};
+  at_domain_vertex_[v] = -1;
+}
+
+// ---------------------------------------------------------------- charts
+
+bool SurfaceMap::face_chart(int t, FaceChart& chart) const {
+  const Triangle& tri = faces_[t];
+  const auto& w = walks_[t];
+  chart.start_face = w[0].start_face;
+  if (at_domain_vertex_[tri[0]] < 0 && location_[tri[0]].face != chart.start_face) return false;
+  chart.start_layout = start_layout_of(tri[0], chart.start_face);
+  int face = chart.start_face;
+  std::array<Vec2, 3> layout = chart.start_layout;
+  chart.corner[0] = position_in(tri[0], face, layout);
+  for (int k = 0; k < 3; ++k) {
+    const int next = tri[(k + 1) % 3];
+    if (k > 0) {
+      // Continue from the previous walk's end; at an M¹ vertex turn
+      // clockwise (through the face's interior) to the next walk's start.
+      const int x = at_domain_vertex_[tri[k]];
+      if (x < 0) {
+        if (face != w[k].start_face) return false;
+      } else if (!rotate_to(x, face, layout, w[k].start_face, true)) {
+        return false;
+      }
+    }
+    chart.walk_layout[k] = layout;
+    const WalkEnd end = follow(w[k], layout);
+    face = end.face;
+    layout = end.layout;
+    if (at_domain_vertex_[next] < 0 && location_[next].face != face) return false;
+    const Vec2 p = position_in(next, face, layout);
+    if (k < 2) {
+      chart.corner[k + 1] = p;
+    } else {
+      // Back at the first corner: the walks must close up (no cone inside).
+      const double scale = (chart.corner[1] - chart.corner[0]).norm() +
+                           (chart.corner[2] - chart.corner[0]).norm();
+      if ((p - chart.corner[0]).norm() > 1e-8 * (scale + 1e-300)) return false;
+      const int x = at_domain_vertex_[tri[0]];
+      if (x >= 0) {
+        if (!rotate_to(x, face, layout, chart.start_face, true)) return false;
+        if ((layout[0] - chart.start_layout[0]).norm() > 1e-8 * (scale + 1e-300)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const {
+  const double twice_domain = orient(a, b, c);
+  if (!(twice_domain > 0)) return HUGE_VAL;
+  const Triangle& tri = faces_[t];
+  const Vec3 &q0 = positions_[tri[0]], &q1 = positions_[tri[1]], &q2 = positions_[tri[2]];
+  const double area_d = 0.5 * twice_domain;
+  const double area_m = 0.5 * (q1 - q0).cross(q2 - q0).norm();
+  // |J|²_F by the cotangent formula: -(1/4A²) Σ_k (d_{k+1}·d_{k+2}) |e_k|²,
+  // d_k the domain edge opposite corner k, e_k the surface one.
+  const Vec2 d0 = c - b, d1 = a - c, d2 = b - a;
+  const double s0 = (q2 - q1).squaredNorm(), s1 = (q0 - q2).squaredNorm(),
+               s2 = (q1 - q0).squaredNorm();
+  const double frob = -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) /
+                      (4 * area_d * area_d);
+  const double det = area_m / area_d;  // Γγ
+  const double total_d = domain_.total_area(), total_m = surface_area_;
+  // Forward stretch weighted by range area, backward by domain area, each
+  // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
+  return area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
+         area_d * (total_m / (total_d * total_d)) * 0.5 * frob / (det * det);
+}
+
+double SurfaceMap::energy() const {
+  double sum = 0.0;
+  FaceChart chart;
+  for (std::size_t t = 0; t < faces_.size(); ++t) {
+    if (!face_chart(int(t), chart)) return HUGE_VAL;
+    sum += face_energy(int(t), chart.corner[0], chart.corner[1], chart.corner[2]);
+  }
+  return sum;
+}
+
+// ---------------------------------------------------------------- rings
+
+bool SurfaceMap::build_ring(int v, Ring& ring) const {
+  ring = Ring{};
+  if (vertex_faces_[v].empty()) return false;
+  const int f0 = vertex_faces_[v].front();
+  int f = f0;
+  do {
+    const int c = corner_of(f, v);
+    ring.faces.push_back(f);
+    ring.corner.push_back(c);
+    ring.vertices.push_back(faces_[f][(c + 1) % 3]);
+    f = face_after(v, faces_[f][(c + 2) % 3]);
+    if (f < 0 || ring.faces.size() > vertex_faces_[v].size()) return false;
+  } while (f != f0);
+  const int x = at_domain_vertex_[v];
+  if (x < 0) {
+    ring.centre_face = location_[v].face;
+    ring.centre_layout = domain_.layout(ring.centre_face);
+  }
+  double previous_start = -HUGE_VAL, extra = 0.0;
+  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+    const EdgeWalk& w = walks_[ring.faces[i]][ring.corner[i]];
+    std::array<Vec2, 3> start;
+    if (x < 0) {
+      if (w.start_face != ring.centre_face) return false;
+      start = ring.centre_layout;
+    } else {
+      // Around an M¹ vertex: unwrap the fan so consecutive walks are
+      // consistent (exact all the way round for a flat vertex).
+      const int idx = fan_index(x, w.start_face);
+      if (idx < 0) return false;
+      const double s = domain_.fan(x)[idx].start;
+      if (s + extra < previous_start - 1e-12) extra += domain_.total_angle(x);
+      previous_start = s + extra;
+      start = domain_.fan_layout(x, idx, extra);
+      if (i == 0) {
+        ring.centre_face = w.start_face;
+        ring.centre_layout = start;
+      }
+    }
+    const WalkEnd end = follow(w, start);
+    const int u = ring.vertices[i];
+    if (at_domain_vertex_[u] < 0 && location_[u].face != end.face) return false;
+    ring.positions.push_back(position_in(u, end.face, end.layout));
+    ring.end_face.push_back(end.face);
+    ring.end_layout.push_back(end.layout);
+    if (w.count > 0 || x >= 0) ring.single_face = false;
+  }
+  ring.centre = x < 0 ? position_in(v, ring.centre_face, ring.centre_layout) : Vec2::Zero();
+  return true;
+}
+
+double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
+  (void)v;
+  double sum = 0.0;
+  const std::size_t m = ring.faces.size();
+  for (std::size_t i = 0; i < m; ++i) {
+    std::array<Vec2, 3> corner;
+    const int c = ring.corner[i];
+    corner[c] = p;
+    corner[(c + 1) % 3] = ring.positions[i];
+    corner[(c + 2) % 3] = ring.positions[(i + 1) % m];
+    sum += face_energy(ring.faces[i], corner[0], corner[1], corner[2]);
+    if (sum == HUGE_VAL) return sum;
+  }
+  return sum;
+}
+
+double SurfaceMap::optimize_vertex(int v) {
+  if (pinned_[v] || vertex_faces_[v].empty()) return 0.0;
+  Ring ring;
+  if (!build_ring(v, ring)) return 0.0;
+  ++optimizations_;
+  if (ring.single_face) ++single_face_rings_;
+  const std::size_t m = ring.faces.size();
+  const Vec2 p0 = ring.centre;
+  const double e0 = ring_energy(ring, v, p0);
+  if (!(e0 < HUGE_VAL)) return 0.0;
+
+  // Largest step along d that keeps every face positive (the kernel).
+  auto max_step = [&](const Vec2& p, const Vec2& d) {
+    double t = HUGE_VAL;
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec2& a = ring.positions[i];
+      const Vec2& b = ring.positions[(i + 1) % m];
+      const double o = orient(p, a, b);
+      const double rate = d.x() * (a.y() - b.y()) - d.y() * (a.x() - b.x());  // d/dt orient
+      if (rate < 0) t = std::min(t, -o / rate);
+    }
+    return t;
+  };
+  double scale = 0.0;
+  for (const Vec2& q : ring.positions) scale = std::max(scale, (q - p0).norm());
+
+  Vec2 p = p0;
+  double e = e0;
+  auto search = [&](Vec2 d) {
+    const double norm = d.norm();
+    if (!(norm > 0)) return;
+    d /= norm;
+    const double hi = 0.95 * std::min(max_step(p, d), 2 * scale);
+    const double lo = -0.95 * std::min(max_step(p, -d), 2 * scale);
+    if (!(hi > lo)) return;
+    // Golden-section search of the energy along the line, inside the kernel.
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = lo, b = hi;
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double f1 = ring_energy(ring, v, p + x1 * d), f2 = ring_energy(ring, v, p + x2 * d);
+    for (int it = 0; it < 24 && b - a > 1e-9 * scale; ++it) {
+      if (f1 < f2) {
+        b = x2, x2 = x1, f2 = f1;
+        x1 = b - g * (b - a);
+        f1 = ring_energy(ring, v, p + x1 * d);
+      } else {
+        a = x1, x1 = x2, f1 = f2;
+        x2 = a + g * (b - a);
+        f2 = ring_energy(ring, v, p + x2 * d);
+      }
+    }
+    const double t = f1 < f2 ? x1 : x2;
+    const double ft = std::min(f1, f2);
+    if (ft < e) {
+      p += t * d;
+      e = ft;
+    }
+  };
+  for (int round = 0; round < 2; ++round) {
+    // Central-difference gradient, then the perpendicular direction.
+    const double h = 1e-5 * scale;
+    const Vec2 grad((ring_energy(ring, v, p + Vec2(h, 0)) - ring_energy(ring, v, p - Vec2(h, 0))),
+                    (ring_energy(ring, v, p + Vec2(0, h)) - ring_energy(ring, v, p - Vec2(0, h))));
+    if (!grad.allFinite() || grad.norm() == 0) break;
+    search(-grad);
+    search(Vec2(-grad.y(), grad.x()));
+  }
+  if (!(e < e0 * (1 - 1e-12))) return 0.0;
+  move_vertex(v, ring, p);
+  return e0 - e;
+}
+
+void SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& p) {
+  // Where p lies in M¹: walk from the old position.
+  int face;
+  std::array<Vec2, 3> layout;
+  EdgeWalk scratch;
+  WalkEnd end;
+  const int x = at_domain_vertex_[v];
+  if (x < 0) {
+    if (!trace(ring.centre_face, ring.centre_layout, ring.centre, p, scratch, end)) return;
+  } else {
+    // From an M¹ vertex: start in the fan face whose angle holds p.
+    int f = ring.centre_face;
+    std::array<Vec2, 3> l = ring.centre_layout;
+    bool found = false;
+    for (std::size_t i = 0; i < domain_.fan(x).size() && !found; ++i) {
+      const Triangle& t = domain_.mesh().triangles[f];
+      const int c = t[0] == x ? 0 : t[1] == x ? 1 : 2;
+      if (orient(l[c], l[(c + 1) % 3], p) >= 0 && orient(l[c], p, l[(c + 2) % 3]) >= 0) {
+        found = true;
+        break;
+      }
+      l = domain_.unfold(f, l, (c + 2) % 3);
+      f = domain_.neighbour(f, (c + 2) % 3);
+    }
+    if (!found || !trace(f, l, Vec2::Zero(), p, scratch, end)) return;
+  }
+  face = end.face;
+  layout = end.layout;
+
+  // New walks from p to every neighbour; commit only if all succeed.
+  const std::size_t m = ring.faces.size();
+  std::vector<EdgeWalk> forward(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    WalkEnd e;
+    if (!trace(face, layout, p, ring.positions[i], forward[i], e)) return;
+    const int u = ring.vertices[i];
+    if (at_domain_vertex_[u] < 0 ? e.face != location_[u].face
+                                 : domain_.mesh().triangles[e.face][0] != at_domain_vertex_[u] &&
+                                       domain_.mesh().triangles[e.face][1] != at_domain_vertex_[u] &&
+                                       domain_.mesh().triangles[e.face][2] != at_domain_vertex_[u])
+      return;
+  }
+  set_location(v, face, layout, p);
+  for (std::size_t i = 0; i < m; ++i) {
+    const int f = ring.faces[i], c = ring.corner[i];
+    walks_[f][c] = forward[i];
+    walks_[f][(c + 2) % 3] = reversed(forward[(i + 1) % m]);
+  }
+}
+
+}  // namespace ism

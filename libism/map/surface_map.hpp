@@ -1,0 +1,172 @@
+#pragma once
+// The inter-surface map between a refining surface M² and a coarse domain M¹
+// (paper §3 steps 3–4, §5), for the remeshing front ends where M¹ is an
+// abstract domain and only M² is refined.
+//
+// Representation. Every vertex of M² is located in a face of M¹ (face and
+// barycentric coordinates), or sits exactly on a vertex of M¹. Every
+// half-edge of M² stores its walk over M¹: the face it starts in and the
+// ordered M¹ edges it crosses. M² edges are straight inside each M¹ face and
+// M¹ edges straight inside each M² face, so the overlay's pieces are convex
+// and each M² face maps by one affine map into the unfolding of the M¹ faces
+// it covers. The vertices of M¹ whose metric is a cone (angle sum ≠ 2π)
+// stay on their feature vertices of M²; flat ones move freely when released.
+// That keeps every M² one-ring inside a flat region, where the optimisation
+// is an exact planar problem (the paper's fast path, here for every vertex).
+#include "map/domain_geometry.hpp"
+#include "pm/pm.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ism {
+
+struct DomainLocation {
+  int face = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+/// Where an M² half-edge runs over M¹: the face it leaves its start vertex
+/// in, then the M¹ edges (edge index in the current face) it crosses.
+struct EdgeWalk {
+  static constexpr int kMaxCrossings = 31;
+  std::int32_t start_face = -1;
+  std::uint8_t count = 0;
+  std::uint64_t exits = 0;  // 2 bits per crossing
+  int exit(int i) const { return int((exits >> (2 * i)) & 3u); }
+  bool push(int k) {
+    if (count >= kMaxCrossings) return false;
+    exits |= std::uint64_t(k) << (2 * count++);
+    return true;
+  }
+};
+
+struct MapOptions {
+  /// Release the features that sit on flat domain vertices during
+  /// optimisation (the paper releases them for octahedral and toroidal maps).
+  bool release_features = true;
+};
+
+/// Stretch measures of the map (DESIGN.md §2), from its pieces.
+struct MapMeasures {
+  double symmetric_efficiency = 0;
+  double forward_efficiency = 0;   // one-way, domain M¹ -> surface M²
+  double backward_efficiency = 0;  // one-way, surface M² -> domain M¹
+};
+
+class SurfaceMap {
+ public:
+  /// The trivial map between the base mesh of `pm` and the domain: base
+  /// vertex i sits on domain vertex i, base faces are the domain faces.
+  SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, MapOptions options = {});
+
+  const DomainGeometry& domain() const { return domain_; }
+  std::size_t n_vertices() const { return active_vertices_; }
+  std::size_t n_faces() const { return faces_.size(); }
+  std::size_t splits_applied() const { return next_split_; }
+  std::size_t splits_total() const { return pm_.splits.size(); }
+  const std::vector<Triangle>& faces() const { return faces_; }
+  const std::vector<Vec3>& positions() const { return positions_; }
+  bool is_active(int v) const { return !vertex_faces_[v].empty(); }
+  bool is_pinned(int v) const { return pinned_[v] != 0; }
+
+  /// Applies the next vertex split of the progressive mesh, embedding the
+  /// new vertex inside the old one-ring. Returns the new vertex, or -1 when
+  /// the surface is fully refined.
+  int split_next();
+
+  /// Moves vertex v inside the kernel of its one-ring to lower the symmetric
+  /// energy; returns the energy decrease (0 when it did not move).
+  double optimize_vertex(int v);
+  /// The one-ring of v (neighbours, counter-clockwise).
+  std::vector<int> neighbours(int v) const;
+  /// How many optimisations had their whole one-ring inside one M¹ face.
+  std::size_t single_face_rings() const { return single_face_rings_; }
+  std::size_t optimizations() const { return optimizations_; }
+
+  /// Sum of the symmetric energy over all faces (paper §5.2; efficiency is
+  /// 2 / energy).
+  double energy() const;
+  MapMeasures measures() const;
+
+  /// The invariants of DESIGN.md §4: positive pieces on both sides, pieces
+  /// tiling every face of both meshes, walks consistent from both sides and
+  /// ordered, bijection. Returns the first violation.
+  std::optional<std::string> validate() const;
+
+  /// Location in M¹ of vertex v of M².
+  const DomainLocation& location(int v) const { return location_[v]; }
+  /// The M¹ vertex v sits on, or -1.
+  int domain_vertex_at(int v) const { return at_domain_vertex_[v]; }
+
+  /// Face t laid out in a chart of the flat region it covers: the positions
+  /// of its corners and the layout of the M¹ face its first corner starts
+  /// in. Returns false if the walks around t do not close (invalid map).
+  struct FaceChart {
+    std::array<Vec2, 3> corner;
+    int start_face;
+    std::array<Vec2, 3> start_layout;
+    std::array<std::array<Vec2, 3>, 3> walk_layout;  // start layout of each corner's walk
+  };
+  bool face_chart(int t, FaceChart& chart) const;
+  /// Symmetric energy of one face given its domain triangle in a chart.
+  double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
+
+ private:
+  struct Ring {
+    std::vector<int> faces;       // ccw around the centre
+    std::vector<int> corner;      // corner of the centre in each face
+    std::vector<int> vertices;    // vertices[i] = the corner after the centre in faces[i]
+    std::vector<Vec2> positions;  // chart positions of vertices
+    std::vector<int> end_face;    // M¹ face each walk centre -> vertices[i] ends in
+    std::vector<std::array<Vec2, 3>> end_layout;
+    Vec2 centre = Vec2::Zero();
+    int centre_face = -1;         // face of the centre's start layout
+    std::array<Vec2, 3> centre_layout{};
+    bool single_face = true;
+  };
+  bool build_ring(int v, Ring& ring) const;
+  double ring_energy(const Ring& ring, int v, const Vec2& p) const;
+  void move_vertex(int v, const Ring& ring, const Vec2& p);
+
+  // Walks over M¹.
+  struct WalkEnd {
+    int face;
+    std::array<Vec2, 3> layout;
+  };
+  WalkEnd follow(const EdgeWalk& walk, const std::array<Vec2, 3>& start_layout) const;
+  bool trace(int face, std::array<Vec2, 3> layout, const Vec2& from, const Vec2& to,
+             EdgeWalk& walk, WalkEnd& end) const;
+  EdgeWalk reversed(const EdgeWalk& walk) const;
+  std::array<Vec2, 3> start_layout_of(int v, int face) const;
+  Vec2 position_in(int v, int face, const std::array<Vec2, 3>& layout) const;
+  /// Rotates a layout of a face around domain vertex x, clockwise, until it
+  /// reaches `target` face.
+  bool rotate_to(int x, int& face, std::array<Vec2, 3>& layout, int target, bool clockwise) const;
+  int fan_index(int x, int face) const;
+  void set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p);
+
+  void add_face(const Triangle& t);
+  int corner_of(int f, int v) const;
+  int face_after(int v, int x) const;
+  EdgeWalk& walk(int f, int corner) { return walks_[f][corner]; }
+  const EdgeWalk& walk(int f, int corner) const { return walks_[f][corner]; }
+
+  const DomainGeometry& domain_;
+  const ProgressiveMesh& pm_;
+  MapOptions options_;
+  std::vector<Vec3> positions_;
+  std::vector<Triangle> faces_;
+  std::vector<std::array<EdgeWalk, 3>> walks_;  // walks_[f][k]: half-edge corner k -> k+1
+  std::vector<std::vector<int>> vertex_faces_;
+  std::vector<DomainLocation> location_;
+  std::vector<int> at_domain_vertex_;
+  std::vector<char> pinned_;
+  std::size_t next_split_ = 0, active_vertices_ = 0;
+  double surface_area_ = 0;
+  std::size_t single_face_rings_ = 0, optimizations_ = 0;
+};
+
+}  // namespace ism

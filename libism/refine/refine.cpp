@@ -1,0 +1,54 @@
+#include "refine/refine.hpp"
+
+#include <stdexcept>
+
+namespace ism {
+
+double optimization_sweep(SurfaceMap& map) {
+  double gain = 0.0;
+  for (std::size_t v = 0; v < map.positions().size(); ++v)
+    if (map.is_active(int(v))) gain += map.optimize_vertex(int(v));
+  return gain;
+}
+
+RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
+  RefineStats stats;
+  auto check = [&](const char* when) {
+    if (!options.validate_each_step) return;
+    if (auto problem = map.validate())
+      throw std::runtime_error(std::string("map invalid ") + when + ": " + *problem);
+  };
+  std::size_t last_sweep = map.n_vertices();
+  const std::size_t total = map.splits_total();
+  for (int vs; (vs = map.split_next()) >= 0;) {
+    ++stats.splits;
+    check("after a split");
+    const std::vector<int> ring = map.neighbours(vs);
+    map.optimize_vertex(vs);
+    for (int w : ring) map.optimize_vertex(w);
+    check("after optimising a split");
+    if (double(map.n_vertices()) >= options.sweep_growth * double(last_sweep)) {
+      optimization_sweep(map);
+      ++stats.sweeps;
+      last_sweep = map.n_vertices();
+      check("after a sweep");
+    }
+    if (options.progress && (stats.splits & 255) == 0) options.progress(double(stats.splits) / total);
+  }
+  stats.energy_before_final = map.energy();
+  double energy = stats.energy_before_final;
+  for (int i = 0; i < options.max_final_sweeps; ++i) {
+    const double gain = optimization_sweep(map);
+    ++stats.final_sweeps;
+    energy -= gain;
+    if (gain < options.final_relative_gain * energy) break;
+  }
+  check("after the final sweeps");
+  stats.energy = map.energy();
+  stats.optimizations = map.optimizations();
+  stats.single_face_rings = map.single_face_rings();
+  if (options.progress) options.progress(1.0);
+  return stats;
+}
+
+}  // namespace ism

@@ -1,0 +1,38 @@
+#pragma once
+// Coarse-to-fine refinement (paper §5): replay the vertex splits of M²; after
+// each, optimise the new vertex, the split vertex and their neighbours; a
+// full sweep whenever the vertex count has grown by `sweep_growth`; final
+// sweeps until the relative gain is small.
+#include "map/surface_map.hpp"
+
+#include <functional>
+
+namespace ism {
+
+struct RefineOptions {
+  double sweep_growth = 1.5;
+  double final_relative_gain = 1e-3;  // stop final sweeps below this gain
+  int max_final_sweeps = 8;
+  /// Call validate() after every split and sweep (for tests; slow).
+  bool validate_each_step = false;
+  std::function<void(double)> progress;  // fraction of splits done
+};
+
+struct RefineStats {
+  std::size_t splits = 0;
+  std::size_t sweeps = 0;
+  std::size_t final_sweeps = 0;
+  std::size_t optimizations = 0;
+  std::size_t single_face_rings = 0;  // optimisations whose one-ring lay in one M¹ face
+  double energy_before_final = 0, energy = 0;
+};
+
+/// Refines `map` to the full resolution of its progressive mesh. Throws
+/// std::runtime_error when a validation (if asked for) fails.
+RefineStats refine(SurfaceMap& map, const RefineOptions& options = {});
+
+/// One optimisation pass over every active vertex, in index order; returns
+/// the energy decrease.
+double optimization_sweep(SurfaceMap& map);
+
+}  // namespace ism

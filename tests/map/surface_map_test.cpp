@@ -1,0 +1,69 @@
+// The map core on generated surfaces: valid after every operation, energy
+// never raised by an accepted optimisation, and the quality the paper's
+// method should reach.
+#include "domain/domain.hpp"
+#include "map/map.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine.hpp"
+#include "shapes/shapes.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ism {
+namespace {
+
+struct OctahedralSetup {
+  TriangleMesh octahedron = domain::octahedron();
+  DomainGeometry geometry;
+  PathNetwork network;
+  ProgressiveMesh pm;
+  OctahedralSetup(const TriangleMesh& surface, DomainMetric metric)
+      : geometry(octahedron, octahedron_lengths(octahedron, metric)),
+        network(trace_octahedral_network(surface)),
+        pm(simplify_constrained(network, octahedron)) {}
+};
+
+TEST(SurfaceMap, BaseMapIsValid) {
+  OctahedralSetup s(shapes::sphere(500), DomainMetric::right_isosceles);
+  SurfaceMap map(s.geometry, s.pm);
+  EXPECT_EQ(map.validate(), std::nullopt);
+  EXPECT_EQ(map.n_vertices(), 6u);
+}
+
+TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
+  for (DomainMetric metric : {DomainMetric::right_isosceles, DomainMetric::equilateral}) {
+    OctahedralSetup s(shapes::blob(600, 4, 0.4), metric);
+    SurfaceMap map(s.geometry, s.pm);
+    for (int vs; (vs = map.split_next()) >= 0;) {
+      ASSERT_EQ(map.validate(), std::nullopt) << "after split " << map.splits_applied();
+      const double before = map.energy();
+      const double gain = map.optimize_vertex(vs);
+      ASSERT_EQ(map.validate(), std::nullopt) << "after optimising " << vs;
+      const double after = map.energy();
+      // An accepted step lowers the symmetric energy by what it reports.
+      EXPECT_LE(after, before * (1 + 1e-12));
+      if (gain > 0) {
+        EXPECT_LT(after, before);
+        EXPECT_NEAR(before - after, gain, 1e-6 * before);
+      }
+    }
+    EXPECT_EQ(map.n_vertices(), s.network.surface.n_vertices());
+  }
+}
+
+TEST(SurfaceMap, RefinedSphereBeatsTheAreaRatioMap) {
+  OctahedralSetup s(shapes::sphere(5000), DomainMetric::right_isosceles);
+  SurfaceMap map(s.geometry, s.pm);
+  const RefineStats stats = refine(map);
+  EXPECT_EQ(map.validate(), std::nullopt);
+  const MapMeasures m = map.measures();
+  std::printf("sphere: symmetric %.4f, domain->surface %.4f, surface->domain %.4f; %zu opts, %.1f%% single-face\n",
+              m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency,
+              stats.optimizations, 100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
+  EXPECT_GE(m.forward_efficiency, 0.83);
+}
+
+}  // namespace
+}  // namespace ism
