@@ -1,0 +1,67 @@
+#pragma once
+// Progressive meshes (Hoppe 1996) by half-edge collapses: the kept vertex
+// keeps its position, so every vertex of a coarse level is a vertex of the
+// input, and replaying the recorded vertex splits rebuilds the input exactly.
+#include "mesh/triangle_mesh.hpp"
+#include "partition/partition.hpp"
+
+#include <functional>
+#include <vector>
+
+namespace ism {
+
+/// Inverse of the half-edge collapse vs -> vt: vertex vs reappears at
+/// `position`, splitting vt; vl and vr are the third corners of the two faces
+/// that the split creates, (vs, vt, vl) and (vt, vs, vr), counter-clockwise.
+struct VertexSplit {
+  int vs, vt, vl, vr;
+  Vec3 position;
+};
+
+struct ProgressiveMesh {
+  /// All vertices of the full-resolution mesh (indices as in the input),
+  /// with the base mesh's faces only: vertices not yet split in are unused.
+  TriangleMesh base;
+  /// Vertex i of the base domain is base.triangles' vertex base_vertices[i].
+  std::vector<int> base_vertices;
+  /// In refinement order: splits[0] is the first split applied to the base.
+  std::vector<VertexSplit> splits;
+  /// Collapses that had to flip a face normal (or make a face degenerate)
+  /// because no flip-free collapse was left; their splits undo the flip.
+  std::size_t relaxed_collapses = 0;
+};
+
+struct SimplifyOptions {
+  std::function<void(double)> progress;  // fraction of collapses done
+};
+
+/// Simplifies the network's surface down to a base mesh with exactly the
+/// domain's faces: base vertex i is features[i], faces as in `domain`
+/// (same orientation). Collapses keep the network: features stay, a path
+/// vertex collapses only along its own path, no collapse joins two paths or
+/// changes a patch's topology; link condition; no normal flips while that
+/// is possible. base.triangles[f] is domain face f with each domain vertex i
+/// replaced by features[i] (same rotation). Throws std::runtime_error if the
+/// network is inconsistent or the base cannot be reached.
+ProgressiveMesh simplify_constrained(const PathNetwork& network, const TriangleMesh& domain,
+                                     const SimplifyOptions& options = {});
+
+/// Unconstrained quadric simplification of a closed manifold mesh down to
+/// `target_vertices` vertices (makes base meshes for tests and for
+/// `semireg --base-size`). Same topology as the input. Stops with more
+/// vertices than asked when no legal collapse is left (e.g. below the
+/// minimum vertex count of the input's genus). Base vertices are the
+/// remaining ones in increasing index order. Throws std::runtime_error if the
+/// mesh is not a closed manifold (or has unreferenced vertices).
+ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertices,
+                            const SimplifyOptions& options = {});
+
+/// The mesh after applying the first `count` splits (all by default), with
+/// unused vertices kept in place so that indices match the input. Throws
+/// std::runtime_error if a split does not fit the mesh it is applied to.
+TriangleMesh replay(const ProgressiveMesh& pm, std::size_t count = SIZE_MAX);
+
+/// The base mesh alone, re-indexed so that vertex i is base_vertices[i].
+TriangleMesh base_mesh(const ProgressiveMesh& pm);
+
+}  // namespace ism
