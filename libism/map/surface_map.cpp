@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -96,6 +97,14 @@ std::vector<int> SurfaceMap::neighbours(int v) const {
     f = face_after(v, faces_[f][(c + 2) % 3]);
   } while (f != f0 && f >= 0 && out.size() <= vertex_faces_[v].size());
   return out;
+}
+
+int SurfaceMap::vertex_at_domain_vertex(int x) const {
+  // Cones never leave M² vertices; the search is over the few candidates
+  // that ever held a domain vertex: features and their successors.
+  for (std::size_t v = 0; v < at_domain_vertex_.size(); ++v)
+    if (at_domain_vertex_[v] == x && !vertex_faces_[v].empty()) return int(v);
+  return -1;
 }
 
 // ---------------------------------------------------------------- walks
@@ -195,6 +204,29 @@ bool SurfaceMap::rotate_to(int x, int& face, std::array<Vec2, 3>& layout, int ta
   return false;
 }
 
+bool SurfaceMap::wedge_containing(int x, int& face, std::array<Vec2, 3>& layout,
+                                  const Vec2& p) const {
+  for (std::size_t i = 0; i < domain_.fan(x).size(); ++i) {
+    const Triangle& t = domain_.mesh().triangles[face];
+    const int c = t[0] == x ? 0 : t[1] == x ? 1 : 2;
+    if (orient(layout[c], layout[(c + 1) % 3], p) >= 0 &&
+        orient(layout[c], p, layout[(c + 2) % 3]) >= 0)
+      return true;
+    layout = domain_.unfold(face, layout, (c + 2) % 3);
+    face = domain_.neighbour(face, (c + 2) % 3);
+  }
+  return false;
+}
+
+bool SurfaceMap::trace_from(int u, int face, std::array<Vec2, 3> layout, const Vec2& p,
+                            EdgeWalk& walk, WalkEnd& end) const {
+  const Vec2 from = position_in(u, face, layout);
+  const int x = at_domain_vertex_[u];
+  if (x >= 0 && !wedge_containing(x, face, layout, p)) return false;
+  if (x < 0 && face != location_[u].face) return false;
+  return trace(face, layout, from, p, walk, end);
+}
+
 void SurfaceMap::set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p) {
   Eigen::Vector3d b = barycentric(p, layout[0], layout[1], layout[2]);
   // Keep vertices strictly inside their face so that point-in-face tests
@@ -285,10 +317,11 @@ double SurfaceMap::energy() const {
 
 // ---------------------------------------------------------------- rings
 
-bool SurfaceMap::build_ring(int v, Ring& ring) const {
+bool SurfaceMap::build_ring(int v, Ring& ring, int start_vertex) const {
   ring = Ring{};
   if (vertex_faces_[v].empty()) return false;
-  const int f0 = vertex_faces_[v].front();
+  const int f0 = start_vertex < 0 ? vertex_faces_[v].front() : face_after(v, start_vertex);
+  if (f0 < 0) return false;
   int f = f0;
   do {
     const int c = corner_of(f, v);
@@ -352,33 +385,26 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
   return sum;
 }
 
-double SurfaceMap::optimize_vertex(int v) {
-  if (pinned_[v] || vertex_faces_[v].empty()) return 0.0;
-  Ring ring;
-  if (!build_ring(v, ring)) return 0.0;
-  ++optimizations_;
-  if (ring.single_face) ++single_face_rings_;
-  const std::size_t m = ring.faces.size();
-  const Vec2 p0 = ring.centre;
-  const double e0 = ring_energy(ring, v, p0);
-  if (!(e0 < HUGE_VAL)) return 0.0;
-
-  // Largest step along d that keeps every face positive (the kernel).
-  auto max_step = [&](const Vec2& p, const Vec2& d) {
+double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
+                          const std::function<double(const Vec2&)>& energy) {
+  const std::size_t m = ring.size();
+  const double e0 = energy(p);
+  if (!(e0 < HUGE_VAL)) return HUGE_VAL;
+  // Largest step along d that keeps every face (p, ring[i], ring[i+1])
+  // positive: the kernel of the ring polygon.
+  auto max_step = [&](const Vec2& q, const Vec2& d) {
     double t = HUGE_VAL;
     for (std::size_t i = 0; i < m; ++i) {
-      const Vec2& a = ring.positions[i];
-      const Vec2& b = ring.positions[(i + 1) % m];
-      const double o = orient(p, a, b);
+      const Vec2& a = ring[i];
+      const Vec2& b = ring[(i + 1) % m];
+      const double o = orient(q, a, b);
       const double rate = d.x() * (a.y() - b.y()) - d.y() * (a.x() - b.x());  // d/dt orient
       if (rate < 0) t = std::min(t, -o / rate);
     }
     return t;
   };
   double scale = 0.0;
-  for (const Vec2& q : ring.positions) scale = std::max(scale, (q - p0).norm());
-
-  Vec2 p = p0;
+  for (const Vec2& q : ring) scale = std::max(scale, (q - p).norm());
   double e = e0;
   auto search = [&](Vec2 d) {
     const double norm = d.norm();
@@ -387,20 +413,20 @@ double SurfaceMap::optimize_vertex(int v) {
     const double hi = 0.95 * std::min(max_step(p, d), 2 * scale);
     const double lo = -0.95 * std::min(max_step(p, -d), 2 * scale);
     if (!(hi > lo)) return;
-    // Golden-section search of the energy along the line, inside the kernel.
+    // Golden-section search along the line, inside the kernel.
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     double a = lo, b = hi;
     double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double f1 = ring_energy(ring, v, p + x1 * d), f2 = ring_energy(ring, v, p + x2 * d);
+    double f1 = energy(p + x1 * d), f2 = energy(p + x2 * d);
     for (int it = 0; it < 24 && b - a > 1e-9 * scale; ++it) {
       if (f1 < f2) {
         b = x2, x2 = x1, f2 = f1;
         x1 = b - g * (b - a);
-        f1 = ring_energy(ring, v, p + x1 * d);
+        f1 = energy(p + x1 * d);
       } else {
         a = x1, x1 = x2, f1 = f2;
         x2 = a + g * (b - a);
-        f2 = ring_energy(ring, v, p + x2 * d);
+        f2 = energy(p + x2 * d);
       }
     }
     const double t = f1 < f2 ? x1 : x2;
@@ -413,12 +439,25 @@ double SurfaceMap::optimize_vertex(int v) {
   for (int round = 0; round < 2; ++round) {
     // Central-difference gradient, then the perpendicular direction.
     const double h = 1e-5 * scale;
-    const Vec2 grad((ring_energy(ring, v, p + Vec2(h, 0)) - ring_energy(ring, v, p - Vec2(h, 0))),
-                    (ring_energy(ring, v, p + Vec2(0, h)) - ring_energy(ring, v, p - Vec2(0, h))));
+    const Vec2 grad(energy(p + Vec2(h, 0)) - energy(p - Vec2(h, 0)),
+                    energy(p + Vec2(0, h)) - energy(p - Vec2(0, h)));
     if (!grad.allFinite() || grad.norm() == 0) break;
     search(-grad);
     search(Vec2(-grad.y(), grad.x()));
   }
+  return e;
+}
+
+double SurfaceMap::optimize_vertex(int v) {
+  if (pinned_[v] || vertex_faces_[v].empty()) return 0.0;
+  Ring ring;
+  if (!build_ring(v, ring)) return 0.0;
+  ++optimizations_;
+  if (ring.single_face) ++single_face_rings_;
+  const double e0 = ring_energy(ring, v, ring.centre);
+  Vec2 p = ring.centre;
+  const double e = minimize_in_kernel(ring.positions, p,
+                                      [&](const Vec2& q) { return ring_energy(ring, v, q); });
   if (!(e < e0 * (1 - 1e-12))) return 0.0;
   move_vertex(v, ring, p);
   return e0 - e;
@@ -437,18 +476,7 @@ void SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& p) {
     // From an M¹ vertex: start in the fan face whose angle holds p.
     int f = ring.centre_face;
     std::array<Vec2, 3> l = ring.centre_layout;
-    bool found = false;
-    for (std::size_t i = 0; i < domain_.fan(x).size() && !found; ++i) {
-      const Triangle& t = domain_.mesh().triangles[f];
-      const int c = t[0] == x ? 0 : t[1] == x ? 1 : 2;
-      if (orient(l[c], l[(c + 1) % 3], p) >= 0 && orient(l[c], p, l[(c + 2) % 3]) >= 0) {
-        found = true;
-        break;
-      }
-      l = domain_.unfold(f, l, (c + 2) % 3);
-      f = domain_.neighbour(f, (c + 2) % 3);
-    }
-    if (!found || !trace(f, l, Vec2::Zero(), p, scratch, end)) return;
+    if (!wedge_containing(x, f, l, p) || !trace(f, l, Vec2::Zero(), p, scratch, end)) return;
   }
   face = end.face;
   layout = end.layout;

@@ -17,6 +17,7 @@
 #include "pm/pm.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,6 +57,12 @@ struct MapMeasures {
   double backward_efficiency = 0;  // one-way, surface M² -> domain M¹
 };
 
+/// Minimises `energy` over p inside the kernel of the polygon `ring` (line
+/// searches along the gradient and its perpendicular, twice); p moves to the
+/// best point found. Returns the energy there.
+double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
+                          const std::function<double(const Vec2&)>& energy);
+
 class SurfaceMap {
  public:
   /// The trivial map between the base mesh of `pm` and the domain: base
@@ -80,6 +87,11 @@ class SurfaceMap {
   /// Moves vertex v inside the kernel of its one-ring to lower the symmetric
   /// energy; returns the energy decrease (0 when it did not move).
   double optimize_vertex(int v);
+  /// Releases a cone of M¹ that sits on vertex v: moves it to the neighbour
+  /// of v where, with v re-optimised, the symmetric energy is lowest (if
+  /// lower than now). Returns the energy decrease. The discrete counterpart,
+  /// for cones, of the paper's optimisation of released features.
+  double relocate_cone(int v);
   /// The one-ring of v (neighbours, counter-clockwise).
   std::vector<int> neighbours(int v) const;
   /// How many optimisations had their whole one-ring inside one M¹ face.
@@ -100,6 +112,8 @@ class SurfaceMap {
   const DomainLocation& location(int v) const { return location_[v]; }
   /// The M¹ vertex v sits on, or -1.
   int domain_vertex_at(int v) const { return at_domain_vertex_[v]; }
+  /// The M² vertex on M¹ vertex x, or -1 when x lies inside a face of M².
+  int vertex_at_domain_vertex(int x) const;
 
   /// Face t laid out in a chart of the flat region it covers: the positions
   /// of its corners and the layout of the M¹ face its first corner starts
@@ -115,6 +129,10 @@ class SurfaceMap {
   double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
 
  private:
+  struct WalkEnd {
+    int face;
+    std::array<Vec2, 3> layout;
+  };
   struct Ring {
     std::vector<int> faces;       // ccw around the centre
     std::vector<int> corner;      // corner of the centre in each face
@@ -127,15 +145,18 @@ class SurfaceMap {
     std::array<Vec2, 3> centre_layout{};
     bool single_face = true;
   };
-  bool build_ring(int v, Ring& ring) const;
+  bool build_ring(int v, Ring& ring, int start_vertex = -1) const;
+  /// Turns counter-clockwise around M¹ vertex x (at corner of `face` in
+  /// `layout`) until the face's wedge at x holds the direction to p.
+  bool wedge_containing(int x, int& face, std::array<Vec2, 3>& layout, const Vec2& p) const;
+  /// The walk of the segment from vertex u (laid out by the end of a walk in
+  /// `face`/`layout`) to the chart point p.
+  bool trace_from(int u, int face, std::array<Vec2, 3> layout, const Vec2& p, EdgeWalk& walk,
+                  WalkEnd& end) const;
   double ring_energy(const Ring& ring, int v, const Vec2& p) const;
   void move_vertex(int v, const Ring& ring, const Vec2& p);
 
   // Walks over M¹.
-  struct WalkEnd {
-    int face;
-    std::array<Vec2, 3> layout;
-  };
   WalkEnd follow(const EdgeWalk& walk, const std::array<Vec2, 3>& start_layout) const;
   bool trace(int face, std::array<Vec2, 3> layout, const Vec2& from, const Vec2& to,
              EdgeWalk& walk, WalkEnd& end) const;

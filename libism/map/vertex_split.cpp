@@ -5,6 +5,8 @@
 #include "map/surface_map.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <stdexcept>
 
 namespace ism {
@@ -75,7 +77,16 @@ int SurfaceMap::split_next() {
     for (std::size_t i = 0; valid && i < last; ++i)
       valid = orient(ps, ring.positions[i], ring.positions[i + 1]) > 0;
   }
-  if (!valid) throw std::runtime_error(where + ": no valid position for the new vertex");
+  if (!valid) {
+    if (std::getenv("ISM_DEBUG")) {
+      std::fprintf(stderr, "x=%d sector=%g last=%zu m=%zu pt=(%g,%g)\n", x, sector, last, m, pt.x(), pt.y());
+      for (std::size_t i = 0; i < m; ++i) {
+        const EdgeWalk& w = walks_[ring.faces[i]][ring.corner[i]];
+        std::fprintf(stderr, "  %zu v=%d pos=(%g,%g) start=%d count=%d at=%d\n", i, ring.vertices[i], ring.positions[i].x(), ring.positions[i].y(), w.start_face, w.count, at_domain_vertex_[ring.vertices[i]]);
+      }
+    }
+    throw std::runtime_error(where + ": no valid position for the new vertex");
+  }
 
   // Locate vs in M¹: from vt's position, in the face holding direction d.
   int face = ring.centre_face;

@@ -6,6 +6,14 @@ namespace ism {
 
 double optimization_sweep(SurfaceMap& map) {
   double gain = 0.0;
+  // Released cones first: each may walk a few steps downhill.
+  for (std::size_t x = 0; x < map.domain().n_vertices(); ++x)
+    for (int step = 0; step < 4; ++step) {
+      const int v = map.vertex_at_domain_vertex(int(x));
+      const double g = v >= 0 ? map.relocate_cone(v) : 0.0;
+      if (g <= 0) break;
+      gain += g;
+    }
   for (std::size_t v = 0; v < map.positions().size(); ++v)
     if (map.is_active(int(v))) gain += map.optimize_vertex(int(v));
   return gain;
@@ -28,8 +36,15 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     for (int w : ring) map.optimize_vertex(w);
     check("after optimising a split");
     if (double(map.n_vertices()) >= options.sweep_growth * double(last_sweep)) {
-      optimization_sweep(map);
-      ++stats.sweeps;
+      // Sweep until this level has settled: cheap while the mesh is coarse,
+      // and it is there that the large-scale shape of the map is decided.
+      double energy = map.energy();
+      for (int i = 0; i < options.max_level_sweeps; ++i) {
+        const double gain = optimization_sweep(map);
+        ++stats.sweeps;
+        energy -= gain;
+        if (gain < options.level_relative_gain * energy) break;
+      }
       last_sweep = map.n_vertices();
       check("after a sweep");
     }

@@ -51,6 +51,15 @@ TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
       }
       gain += map.optimize_vertex(vs);
       ASSERT_EQ(map.validate(), std::nullopt) << "after optimising " << vs;
+      for (int x = 0; x < 6; ++x) {
+        const int v = map.vertex_at_domain_vertex(x);
+        if (v < 0) continue;
+        const double before_c = map.energy();
+        const double g = map.relocate_cone(v);
+        ASSERT_EQ(map.validate(), std::nullopt) << "after moving cone " << x << " from " << v;
+        if (g > 0) EXPECT_NEAR(before_c - map.energy(), g, 1e-6 * before_c);
+        gain += g;
+      }
       const double after = map.energy();
       // An accepted step lowers the symmetric energy by what it reports.
       EXPECT_LE(after, before * (1 + 1e-12));
