@@ -5,6 +5,7 @@
 #include "mesh/triangle_mesh.hpp"
 
 #include <array>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <stdexcept>
@@ -63,5 +64,13 @@ PathNetwork trace_octahedral_network(const TriangleMesh& surface,
 /// domain face with the same orientation, paths disjoint but at features.
 /// Returns the first problem found, or nothing.
 std::optional<std::string> validate_network(const PathNetwork& network, const TriangleMesh& domain);
+
+}  // namespace ism
+
+namespace ism {
+
+/// Writes the network for looking at it: an ASCII PLY with faces coloured by
+/// patch, path vertices dark grey and features red.
+void write_patch_dump(const PathNetwork& network, const std::filesystem::path& path);
 
 }  // namespace ism

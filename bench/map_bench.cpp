@@ -1,0 +1,53 @@
+// One row of the map benchmark: the whole octahedral pipeline on one model
+// (partition, constrained progressive mesh, refinement, validation), with
+// stage times, peak memory, efficiencies and the fast-path fraction.
+//   map_bench MESH [equilateral|right_isosceles]
+// Prints one Markdown table row; bench/map.sh runs it per model (one process
+// per model, so peak memory is that model's).
+#include "domain/domain.hpp"
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "mesh/mesh_check.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine.hpp"
+#include "tool/tool.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+int main(int argc, char** argv) {
+  if (argc < 2) return 2;
+  const bool equilateral = argc > 2 && std::strcmp(argv[2], "equilateral") == 0;
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+  };
+  const auto t0 = Clock::now();
+  const ism::TriangleMesh surface = ism::prepare_mesh(ism::io::read_polygon_soup(argv[1])).mesh;
+  const auto t1 = Clock::now();
+  const ism::PathNetwork network = ism::trace_octahedral_network(surface);
+  const auto t2 = Clock::now();
+  const ism::TriangleMesh octahedron = ism::domain::octahedron();
+  const ism::ProgressiveMesh pm = ism::simplify_constrained(network, octahedron);
+  const auto t3 = Clock::now();
+  const ism::DomainGeometry domain(
+      octahedron, ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
+                                                                  : ism::DomainMetric::right_isosceles));
+  ism::SurfaceMap map(domain, pm);
+  const ism::RefineStats stats = ism::refine(map);
+  const auto t4 = Clock::now();
+  const bool valid = !map.validate();
+  const auto t5 = Clock::now();
+  const ism::MapMeasures m = map.measures();
+  std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f | %.1f%% |\n",
+              std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
+              network.steiner_vertices(), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
+              seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
+              valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency,
+              m.symmetric_efficiency,
+              100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
+  return valid ? 0 : 1;
+}
