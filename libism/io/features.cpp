@@ -51,11 +51,13 @@ std::vector<FeatureEntry> read_feature_file(const std::filesystem::path& path) {
   return entries;
 }
 
-std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries, const TriangleMesh& surface,
-                                  int columns, const std::string& file_name) {
+std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries,
+                                  const TriangleMesh& surface, int columns,
+                                  const std::string& file_name) {
   std::vector<int> features(entries.size(), -1);
-  const bool gridded = columns > 0 && !entries.empty() &&
-                       std::all_of(entries.begin(), entries.end(), [](auto& e) { return bool(e.grid); });
+  const bool gridded =
+      columns > 0 && !entries.empty() &&
+      std::all_of(entries.begin(), entries.end(), [](auto& e) { return bool(e.grid); });
   for (std::size_t k = 0; k < entries.size(); ++k) {
     const FeatureEntry& e = entries[k];
     int vertex = -1;

@@ -52,15 +52,18 @@ void write_colored_ply(const TriangleMesh& mesh, const std::vector<Rgb>& vertex_
   const bool per_face = face_colors.size() == mesh.n_faces();
   std::fprintf(file, "ply\nformat ascii 1.0\nelement vertex %zu\n", mesh.n_vertices());
   std::fprintf(file, "property double x\nproperty double y\nproperty double z\n");
-  if (per_vertex) std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  if (per_vertex)
+    std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
   std::fprintf(file, "element face %zu\nproperty list uchar int vertex_indices\n", mesh.n_faces());
-  if (per_face) std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
+  if (per_face)
+    std::fprintf(file, "property uchar red\nproperty uchar green\nproperty uchar blue\n");
   std::fprintf(file, "end_header\n");
   for (std::size_t v = 0; v < mesh.n_vertices(); ++v) {
     const Vec3& p = mesh.positions[v];
     std::fprintf(file, "%.17g %.17g %.17g", p.x(), p.y(), p.z());
     if (per_vertex)
-      std::fprintf(file, " %d %d %d", vertex_colors[v][0], vertex_colors[v][1], vertex_colors[v][2]);
+      std::fprintf(file, " %d %d %d", vertex_colors[v][0], vertex_colors[v][1],
+                   vertex_colors[v][2]);
     std::fputc('\n', file);
   }
   for (std::size_t f = 0; f < mesh.n_faces(); ++f) {

@@ -62,7 +62,9 @@ class NetworkTracer {
     on_network_.assign(mesh_.n_vertices(), 0);
     for (int f : features_) on_network_[f] = 1;
     build_domain_rings();
-    long chi = long(surface.n_vertices()) - long(mesh_.n_edges()) + long(surface.n_faces());
+    std::size_t used = 0;  // vertices that faces use: isolated ones do not count
+    for (VH v : mesh_.vertices()) used += !mesh_.is_isolated(v);
+    long chi = long(used) - long(mesh_.n_edges()) + long(surface.n_faces());
     genus_ = int((2 - chi) / 2);
     non_separating_paths_ = int(features_.size()) - 1 + 2 * genus_;
   }

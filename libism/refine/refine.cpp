@@ -39,11 +39,15 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       // Sweep until this level has settled: cheap while the mesh is coarse,
       // and it is there that the large-scale shape of the map is decided.
       double energy = map.energy();
-      for (int i = 0; i < options.max_level_sweeps; ++i) {
+      // Coarse levels are cheap: let them converge further.
+      const bool coarse = map.n_vertices() < options.coarse_vertices;
+      const int max_sweeps = coarse ? 4 * options.max_level_sweeps : options.max_level_sweeps;
+      const double min_gain = coarse ? 0.1 * options.level_relative_gain : options.level_relative_gain;
+      for (int i = 0; i < max_sweeps; ++i) {
         const double gain = optimization_sweep(map);
         ++stats.sweeps;
         energy -= gain;
-        if (gain < options.level_relative_gain * energy) break;
+        if (gain < min_gain * energy) break;
       }
       last_sweep = map.n_vertices();
       check("after a sweep");

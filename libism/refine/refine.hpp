@@ -13,6 +13,7 @@ struct RefineOptions {
   double sweep_growth = 1.5;
   int max_level_sweeps = 10;           // sweeps per level while they still gain
   double level_relative_gain = 2e-3;
+  std::size_t coarse_vertices = 2000;  // below this, 4x the sweeps and 1/10 the gain
   double final_relative_gain = 1e-3;  // stop final sweeps below this gain
   int max_final_sweeps = 8;
   /// Call validate() after every split and sweep (for tests; slow).

@@ -1,22 +1,229 @@
 // gim-remesh MESH -o IMAGE.exr: octahedral geometry image of a closed genus-0
-// surface. The input checks are in place; the map itself needs the map core
-// (issues 3-5), so for a valid input the tool says so and writes nothing.
+// surface (paper §6.3): a map from the octahedron, unfolded into the square,
+// to the surface, optimised for symmetric stretch, sampled on an n×n grid.
+#include "domain/domain.hpp"
+#include "io/features.hpp"
+#include "io/draco_io.hpp"
+#include "io/image_io.hpp"
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "metrics/metrics.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine.hpp"
+#include "report/report.hpp"
+#include "sample/sample.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
 
+#include <cmath>
+
+namespace {
+
+using namespace ism;
+
+struct Options {
+  std::string input, output, normals, mesh, preview, dump_patches, features;
+  int size = 257;
+  std::string metric = "right-isosceles";
+  bool hold_features = false;
+  int draco_bits = 14;
+};
+
+// Area-weighted vertex normals of the map's surface.
+std::vector<Vec3> vertex_normals(const SurfaceMap& map) {
+  std::vector<Vec3> n(map.positions().size(), Vec3::Zero());
+  for (const Triangle& t : map.faces()) {
+    const auto& p = map.positions();
+    const Vec3 fn = (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
+    for (int v : t) n[v] += fn;
+  }
+  for (Vec3& v : n)
+    if (v.norm() > 0) v.normalize();
+  return n;
+}
+
+// The preview: the geometry image (positions normalised to the bounding box)
+// beside the normal map shaded by a light, so both read at a glance.
+std::vector<std::array<unsigned char, 3>> preview_pixels(const GeometryImage& image,
+                                                         const std::vector<Vec3>& normals) {
+  const int n = image.n;
+  Vec3 lo = image.pixels.front(), hi = lo;
+  for (const Vec3& p : image.pixels) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 extent = (hi - lo).cwiseMax(1e-300);
+  std::vector<std::array<unsigned char, 3>> out(std::size_t(2 * n) * n);
+  const Vec3 light = Vec3(0.3, 0.4, 1.0).normalized();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vec3 c = (image.pixels[std::size_t(i) * n + j] - lo).cwiseQuotient(extent);
+      auto& left = out[std::size_t(i) * 2 * n + j];
+      for (int k = 0; k < 3; ++k) left[k] = static_cast<unsigned char>(std::lround(255 * c[k]));
+      // Two antipodal lights, as the paper's figures: every side reads.
+      const double shade = 0.15 + 0.85 * std::abs(normals[std::size_t(i) * n + j].dot(light));
+      auto& right = out[std::size_t(i) * 2 * n + n + j];
+      right.fill(static_cast<unsigned char>(std::lround(255 * shade)));
+    }
+  return out;
+}
+
+template <typename Write>
+void write_output(tool::Run& run, const std::string& path, Write&& write) {
+  if (path.empty()) return;
+  tool::OutputFile out(path, run.inputs());
+  try {
+    write(out.temp_path());
+  } catch (const io::FileError& e) {
+    throw tool::Failure(path + ": cannot write the file");
+  }
+  out.commit();
+}
+
+int run_gim(const Options& o, const tool::CommonOptions& common) {
+  tool::Run run("gim-remesh", common);
+  run.add_input(o.input);
+  if (!o.features.empty()) run.add_input(o.features);
+  for (const std::string& out : {o.output, o.normals, o.mesh, o.preview, o.dump_patches})
+    if (!out.empty()) run.check_output(out);
+  if (o.size < 3 || ((o.size - 1) & (o.size - 2)) != 0)
+    throw tool::Failure("gim-remesh: --size must be 2^k+1 (e.g. 65, 129, 257, 513), got " +
+                        std::to_string(o.size));
+
+  const TriangleMesh surface =
+      run.load_surface(o.input, {.tool = "gim-remesh", .closed = true, .genus = 0});
+
+  run.stage("partition");
+  PathNetwork network;
+  try {
+    if (o.features.empty()) {
+      network = trace_octahedral_network(surface);
+    } else {
+      const auto entries = io::read_feature_file(o.features);
+      const auto features = io::resolve_features(entries, surface, 0, o.features);
+      network = trace_path_network(surface, domain::octahedron(), features);
+    }
+  } catch (const PartitionError& e) {
+    throw tool::Failure(o.input + ": " + e.what());
+  } catch (const io::FileError& e) {
+    throw tool::Failure(e.what());
+  }
+  if (!o.dump_patches.empty())
+    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(network, p); });
+
+  run.stage("progressive mesh");
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pm = simplify_constrained(network, octahedron);
+  run.report()["partition"] = partition_report(network, octahedron, pm);
+
+  tool::Progress& progress = run.stage("map");
+  const DomainMetric metric =
+      o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;
+  const DomainGeometry domain(octahedron, octahedron_lengths(octahedron, metric));
+  SurfaceMap map(domain, pm, {.release_features = !o.hold_features});
+  RefineOptions refine_options;
+  refine_options.progress = [&](double f) { progress.update(f); };
+  const RefineStats stats = refine(map, refine_options);
+
+  run.stage("validate");
+  const auto problem = map.validate();
+  if (problem) throw tool::Failure("gim-remesh: internal error, the map is invalid: " + *problem);
+
+  run.stage("sample");
+  const MapSampler sampler(map);
+  const std::vector<Vec3> normals = vertex_normals(map);
+  // Metric and layout agree: the right-isosceles octahedron is the square.
+  const GeometryImage image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    if (!s) throw std::runtime_error("a sample fell outside the map");
+    return s->position;
+  });
+  const GeometryImage normal_image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    const Triangle& t = map.faces()[s->face];
+    return Vec3((s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
+                    .normalized());
+  });
+
+  run.stage("write");
+  auto as_float = [](const GeometryImage& img) {
+    std::vector<Eigen::Vector3f> f(img.pixels.size());
+    for (std::size_t i = 0; i < f.size(); ++i) f[i] = img.pixels[i].cast<float>();
+    return f;
+  };
+  const std::vector<std::pair<std::string, std::string>> attributes{
+      {"ism:layout", "octahedral"}, {"ism:version", ISM_VERSION}};
+  write_output(run, o.output, [&](const auto& p) {
+    io::write_exr_rgb(p, o.size, o.size, as_float(image), attributes);
+  });
+  write_output(run, o.normals, [&](const auto& p) {
+    io::write_exr_rgb(p, o.size, o.size, as_float(normal_image), attributes);
+  });
+  const TriangleMesh remesh = image_to_mesh(image);
+  write_output(run, o.mesh, [&](const auto& p) {
+    if (p.extension() == ".drc")
+      io::write_draco(remesh, p, o.draco_bits);
+    else
+      io::write_mesh(remesh, p);
+  });
+  write_output(run, o.preview, [&](const auto& p) {
+    io::write_png_preview(p, 2 * o.size, o.size, preview_pixels(image, normal_image.pixels));
+  });
+
+  run.stage("measure");
+  const MapMeasures m = map.measures();
+  const SurfaceDistance distance = surface_distance(surface, remesh);
+  Json& r = run.report();
+  r["size"] = o.size;
+  r["metric"] = o.metric;
+  r["features_released"] = !o.hold_features;
+  Json& mj = r["map"];
+  mj["valid"] = true;
+  mj["faces"] = map.n_faces();
+  mj["symmetric_efficiency"] = m.symmetric_efficiency;
+  mj["efficiency_domain_to_surface"] = m.forward_efficiency;
+  mj["efficiency_surface_to_domain"] = m.backward_efficiency;
+  mj["optimizations"] = stats.optimizations;
+  mj["fast_path_fraction"] = double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
+  const double square_efficiency = image_efficiency(image, ImageDomain::square);
+  Json& ij = r["image"];
+  ij["efficiency_square"] = square_efficiency;
+  ij["efficiency_octahedron"] = image_efficiency(image, ImageDomain::octahedron);
+  ij["flipped_triangles"] = flipped_triangles(image);
+  ij["remesh_vertices"] = remesh.n_vertices();
+  ij["remesh_faces"] = remesh.n_faces();
+  Json& dj = r["distance"];
+  dj["psnr_db"] = distance.psnr_db;
+  dj["rms"] = distance.rms;
+  dj["rms_input_to_remesh"] = distance.rms_a_to_b;
+  dj["rms_remesh_to_input"] = distance.rms_b_to_a;
+  dj["hausdorff"] = distance.hausdorff;
+  run.note(o.output + ": " + std::to_string(o.size) + "x" + std::to_string(o.size) +
+           " geometry image; map efficiency " + std::to_string(m.forward_efficiency) +
+           " (symmetric " + std::to_string(m.symmetric_efficiency) + "), image efficiency " +
+           std::to_string(square_efficiency) +
+           ", PSNR " + std::to_string(distance.psnr_db) + " dB");
+  run.finish();
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"gim-remesh: octahedral geometry image of a closed genus-0 surface"};
-  ism::tool::CommonOptions common;
-  std::string input, output;
-  app.add_option("mesh", input, "Closed genus-0 surface (.obj, .ply, .off, .stl)")->required();
-  app.add_option("-o,--output", output, "Geometry image (.exr)");
-  ism::tool::add_common_options(app, common);
+  Options o;
+  tool::CommonOptions common;
+  app.add_option("mesh", o.input, "Closed genus-0 surface (.obj, .ply, .off, .stl)")->required();
+  app.add_option("-o,--output", o.output, "Geometry image (.exr, float RGB positions)")->required();
+  app.add_option("--size", o.size, "Image size n = 2^k+1");
+  app.add_option("--metric", o.metric, "Face metric of the octahedron")
+      ->check(CLI::IsMember({"right-isosceles", "equilateral"}));
+  app.add_option("--features", o.features, "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
+  app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
+  app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
+  app.add_option("--mesh", o.mesh, "Remesh of the image (.obj, .ply, .off, .stl, .drc)");
+  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")->check(CLI::Range(8, 30));
+  app.add_option("--preview", o.preview, "PNG preview: image and shaded normals side by side");
+  app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
+  tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
-
-  return ism::tool::run_main("gim-remesh", [&] {
-    ism::tool::Run run("gim-remesh", common);
-    run.load_surface(input, {.tool = "gim-remesh", .closed = true, .genus = 0});
-    throw ism::tool::Failure("gim-remesh: the octahedral map is not implemented yet");
-    return 0;
-  });
+  return tool::run_main("gim-remesh", [&] { return run_gim(o, common); });
 }

@@ -1,0 +1,42 @@
+#pragma once
+// Geometry images on disk: 32-bit float RGB OpenEXR (RGB = XYZ of the surface
+// sample) and an 8-bit PNG preview to look at. The third-party headers stay in
+// image_io.cpp so that including this file costs nothing.
+#include <Eigen/Core>
+
+#include <array>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ism::io {
+
+/// String attributes stored in an EXR header, e.g. {"ism:layout", "octahedral"}.
+using ExrAttributes = std::vector<std::pair<std::string, std::string>>;
+
+/// Writes width x height float RGB pixels (row-major, row 0 at the top) as a
+/// ZIP-compressed OpenEXR with 32-bit float channels R, G, B, adding each
+/// attribute as a string attribute of the header. Throws std::invalid_argument
+/// when the sizes disagree or an attribute name is empty or taken by a
+/// standard attribute of another type ("compression", "channels", ...), and
+/// FileError (message starting with the path) when the file cannot be written.
+void write_exr_rgb(const std::filesystem::path& path, int width, int height,
+                   const std::vector<Eigen::Vector3f>& pixels,
+                   const ExrAttributes& attributes = {});
+
+/// Reads the R, G, B channels of an OpenEXR (any pixel type, converted to
+/// float; 32-bit float files read back bit-exact), row-major with row 0 at the
+/// top of the data window. When `attributes` is given it receives every string
+/// attribute of the header, sorted by name. Throws FileError for a missing or
+/// invalid file or a missing channel.
+std::vector<Eigen::Vector3f> read_exr_rgb(const std::filesystem::path& path, int& width,
+                                          int& height, ExrAttributes* attributes = nullptr);
+
+/// Writes an 8-bit RGB PNG (always PNG, whatever the extension) through
+/// OpenImageIO. Throws std::invalid_argument when the sizes disagree and
+/// FileError when the file cannot be written.
+void write_png_preview(const std::filesystem::path& path, int width, int height,
+                       const std::vector<std::array<unsigned char, 3>>& pixels);
+
+}  // namespace ism::io

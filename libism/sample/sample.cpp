@@ -1,0 +1,305 @@
+#include "sample/sample.hpp"
+
+#include "metrics/metrics.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ism {
+
+namespace {
+
+// Faces of domain::octahedron() per quadrant (0: u>=0 v>=0, 1: u<0 v>=0,
+// 2: u<0 v<0, 3: u>=0 v<0), upper (around +z) and lower (around -z).
+constexpr std::array<int, 4> kUpperFace = {0, 1, 2, 3};
+constexpr std::array<int, 4> kLowerFace = {4, 5, 6, 7};
+
+// Corners of the faces as in domain::octahedron(); vertex v lies on axis v/2
+// with sign + for even v.
+constexpr std::array<std::array<int, 3>, 8> kFaces = {
+    {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}};
+
+int quadrant(bool u_positive, bool v_positive) {
+  if (v_positive) return u_positive ? 0 : 1;
+  return u_positive ? 3 : 2;
+}
+
+void check_face(int face) {
+  if (face < 0 || face >= 8)
+    throw std::invalid_argument("octahedron face " + std::to_string(face) + " out of range");
+}
+
+void check_size(int n) {
+  if (!is_geometry_image_size(n))
+    throw std::invalid_argument("geometry image size " + std::to_string(n) +
+                                " is not 2^k+1 with 1 <= k <= 15");
+}
+
+void check_image(const GeometryImage& image) {
+  check_size(image.n);
+  if (image.pixels.size() != static_cast<std::size_t>(image.n) * image.n)
+    throw std::invalid_argument(
+        "geometry image has " + std::to_string(image.pixels.size()) +
+        " pixels, expected n*n = " + std::to_string(static_cast<std::size_t>(image.n) * image.n));
+}
+
+/// The first pixel (row-major) of the mirror orbit of (row, col): the one
+/// that is evaluated and that names the mesh vertex.
+std::array<int, 2> canonical_pixel(int n, int row, int col) {
+  const int last = n - 1;
+  const bool top = row == 0, bottom = row == last, left = col == 0, right = col == last;
+  if ((top || bottom) && (left || right)) return {0, 0};  // -z
+  if (top || bottom) return {row, std::min(col, last - col)};
+  if (left || right) return {std::min(row, last - row), col};
+  return {row, col};
+}
+
+/// The two triangles of grid cell (row, col)-(row+1, col+1) as pixel
+/// {row, col} corners, counter-clockwise in (u,v), split along the diagonal
+/// parallel to the octahedron edge of the cell's quadrant.
+std::array<std::array<std::array<int, 2>, 3>, 2> cell_triangles(int n, int row, int col) {
+  const int m = (n - 1) / 2;
+  const bool u_positive = col >= m, v_positive = row < m;
+  const std::array<int, 2> tl{row, col}, tr{row, col + 1}, bl{row + 1, col}, br{row + 1, col + 1};
+  if (u_positive == v_positive) return {{{tl, bl, br}, {tl, br, tr}}};
+  return {{{bl, br, tr}, {bl, tr, tl}}};
+}
+
+TriangleLengths lengths(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return {(b - c).norm(), (c - a).norm(), (a - b).norm()};
+}
+
+}  // namespace
+
+OctahedronPoint octahedron_point(double u, double v) {
+  u = std::clamp(u, -1.0, 1.0);
+  v = std::clamp(v, -1.0, 1.0);
+  const bool u_positive = u >= 0.0, v_positive = v >= 0.0;
+  const double au = std::abs(u), av = std::abs(v);
+  const int q = quadrant(u_positive, v_positive);
+  // |x|, |y|, |z| of the point on |x|+|y|+|z| = 1; they are its barycentric
+  // coordinates with respect to the axis vertices of its face. The side is
+  // chosen from the sign of the very z that becomes a weight, so no weight
+  // comes out as -1e-16.
+  const double z = 1.0 - au - av;
+  std::array<double, 3> axis_weight;
+  int face;
+  if (z >= 0.0) {
+    face = kUpperFace[q];
+    axis_weight = {au, av, z};
+  } else {
+    face = kLowerFace[q];
+    axis_weight = {1.0 - av, 1.0 - au, -z};
+  }
+  OctahedronPoint p;
+  p.face = face;
+  for (int k = 0; k < 3; ++k) p.bary[k] = axis_weight[kFaces[face][k] / 2];
+  return p;
+}
+
+Eigen::Vector2d square_point(int face, const Eigen::Vector3d& bary) {
+  check_face(face);
+  // Weight per axis, and the face's quadrant from its equator vertices.
+  std::array<double, 3> axis_weight{0.0, 0.0, 0.0};
+  double su = 1.0, sv = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = kFaces[face][k];
+    axis_weight[vertex / 2] = bary[k];
+    if (vertex == 1) su = -1.0;
+    if (vertex == 3) sv = -1.0;
+  }
+  const bool upper = face < 4;
+  if (upper) return {su * axis_weight[0], sv * axis_weight[1]};
+  return {su * (1.0 - axis_weight[1]), sv * (1.0 - axis_weight[0])};
+}
+
+Vec3 octahedron_position(const OctahedronPoint& p) {
+  check_face(p.face);
+  Vec3 x = Vec3::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = kFaces[p.face][k];
+    x[vertex / 2] += (vertex % 2 == 0 ? 1.0 : -1.0) * p.bary[k];
+  }
+  return x;
+}
+
+bool is_geometry_image_size(int n) {
+  // k <= 15 keeps n² below 2^31, so pixel and vertex ids fit an int.
+  if (n < 3 || n > (1 << 15) + 1) return false;
+  const int m = n - 1;
+  return (m & (m - 1)) == 0;
+}
+
+Eigen::Vector2d pixel_square_point(int n, int row, int col) {
+  const double last = n - 1;
+  return {-1.0 + 2.0 * col / last, 1.0 - 2.0 * row / last};
+}
+
+std::array<int, 2> octahedron_vertex_pixel(int n, int vertex) {
+  const int m = (n - 1) / 2, last = n - 1;
+  switch (vertex) {
+    case 0:
+      return {m, last};
+    case 1:
+      return {m, 0};
+    case 2:
+      return {0, m};
+    case 3:
+      return {last, m};
+    case 4:
+      return {m, m};
+    case 5:
+      return {0, 0};
+  }
+  throw std::invalid_argument("octahedron vertex " + std::to_string(vertex) + " out of range");
+}
+
+std::vector<int> image_vertex_of_pixel(int n) {
+  check_size(n);
+  std::vector<int> vertex(static_cast<std::size_t>(n) * n, -1);
+  int next = 0;
+  // Row-major: the canonical pixel of an orbit comes first, so its id is set
+  // before any mirror reads it.
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const auto [r, c] = canonical_pixel(n, row, col);
+      const std::size_t self = static_cast<std::size_t>(row) * n + col;
+      vertex[self] = (r == row && c == col) ? next++ : vertex[static_cast<std::size_t>(r) * n + c];
+    }
+  return vertex;
+}
+
+GeometryImage sample_octahedral(int n,
+                                const std::function<Vec3(const OctahedronPoint&)>& surface_point) {
+  check_size(n);
+  GeometryImage image;
+  image.n = n;
+  image.pixels.assign(static_cast<std::size_t>(n) * n, Vec3::Zero());
+  // Each canonical pixel is written by exactly one task: deterministic.
+  tbb::parallel_for(0, n, [&](int row) {
+    for (int col = 0; col < n; ++col) {
+      const auto [r, c] = canonical_pixel(n, row, col);
+      if (r != row || c != col) continue;
+      const Eigen::Vector2d uv = pixel_square_point(n, row, col);
+      image.at(row, col) = surface_point(octahedron_point(uv.x(), uv.y()));
+    }
+  });
+  // Mirrors exist only on the boundary: copy them serially, bit for bit.
+  for (int row = 0; row < n; ++row)
+    for (int col = 0; col < n; ++col) {
+      const auto [r, c] = canonical_pixel(n, row, col);
+      if (r != row || c != col) image.at(row, col) = image.at(r, c);
+    }
+  return image;
+}
+
+TriangleMesh image_to_mesh(const GeometryImage& image) {
+  check_image(image);
+  const int n = image.n;
+  const std::vector<int> vertex = image_vertex_of_pixel(n);
+  TriangleMesh mesh;
+  mesh.positions.resize(static_cast<std::size_t>(n - 1) * (n - 1) + 2);
+  // A vertex takes the value of its first pixel (row-major); mirrors of an
+  // image that is not bit-symmetric are ignored rather than averaged.
+  int next = 0;
+  for (std::size_t p = 0; p < vertex.size(); ++p)
+    if (vertex[p] == next) mesh.positions[next++] = image.pixels[p];
+  mesh.triangles.reserve(2 * static_cast<std::size_t>(n - 1) * (n - 1));
+  for (int row = 0; row + 1 < n; ++row)
+    for (int col = 0; col + 1 < n; ++col)
+      for (const auto& t : cell_triangles(n, row, col)) {
+        Triangle tri;
+        for (int k = 0; k < 3; ++k) tri[k] = vertex[image.index(t[k][0], t[k][1])];
+        mesh.triangles.push_back(tri);
+      }
+  return mesh;
+}
+
+double image_efficiency(const GeometryImage& image, ImageDomain domain) {
+  check_image(image);
+  const int n = image.n;
+  auto domain_point = [&](int row, int col) -> Vec3 {
+    const Eigen::Vector2d uv = pixel_square_point(n, row, col);
+    if (domain == ImageDomain::square) return {uv.x(), uv.y(), 0.0};
+    return octahedron_position(octahedron_point(uv.x(), uv.y()));
+  };
+  // The sums of one_way_stretch, accumulated per row of cells in parallel and
+  // added up in row order, so the result does not depend on the schedule
+  // (and no n² list of pieces is built).
+  struct Sums {
+    double area_domain = 0.0, area_range = 0.0, weighted_sigma2 = 0.0;
+  };
+  std::vector<Sums> rows(n - 1);
+  tbb::parallel_for(0, n - 1, [&](int row) {
+    Sums s;
+    for (int col = 0; col + 1 < n; ++col)
+      for (const auto& t : cell_triangles(n, row, col)) {
+        const TriangleLengths d =
+            lengths(domain_point(t[0][0], t[0][1]), domain_point(t[1][0], t[1][1]),
+                    domain_point(t[2][0], t[2][1]));
+        const TriangleLengths r = lengths(image.at(t[0][0], t[0][1]), image.at(t[1][0], t[1][1]),
+                                          image.at(t[2][0], t[2][1]));
+        const SingularValues sv = stretch_singular_values(d, r);
+        const double a_range = triangle_area(r);
+        s.area_domain += triangle_area(d);
+        s.area_range += a_range;
+        s.weighted_sigma2 += a_range * 0.5 * (sv.max * sv.max + sv.min * sv.min);
+      }
+    rows[row] = s;
+  });
+  Sums total;
+  for (const Sums& s : rows) {
+    total.area_domain += s.area_domain;
+    total.area_range += s.area_range;
+    total.weighted_sigma2 += s.weighted_sigma2;
+  }
+  if (!(total.area_range > 0.0))
+    throw std::invalid_argument("image_efficiency: the image has zero surface area");
+  const double l2_normalized =
+      total.weighted_sigma2 / total.area_range * (total.area_domain / total.area_range);
+  return 1.0 / l2_normalized;
+}
+
+std::size_t flipped_triangles(const GeometryImage& image) {
+  const TriangleMesh mesh = image_to_mesh(image);
+  const std::size_t nf = mesh.n_faces(), nv = mesh.n_vertices();
+  std::vector<Vec3> normal(nf);
+  for (std::size_t f = 0; f < nf; ++f) normal[f] = face_normal_scaled(mesh, f);
+
+  // Faces around each vertex (compressed rows).
+  std::vector<std::size_t> start(nv + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    for (int v : t) ++start[v + 1];
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::size_t> faces(start[nv]);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t f = 0; f < nf; ++f)
+      for (int v : mesh.triangles[f]) faces[fill[v]++] = f;
+  }
+
+  std::vector<char> flipped(nf, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const auto& range) {
+    std::vector<std::size_t> ring;
+    for (std::size_t f = range.begin(); f != range.end(); ++f) {
+      // Union of the faces around the three corners: a neighbour sharing an
+      // edge must count once, not twice.
+      ring.clear();
+      for (int v : mesh.triangles[f])
+        ring.insert(ring.end(), faces.begin() + start[v], faces.begin() + start[v + 1]);
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      Vec3 sum = Vec3::Zero();
+      for (std::size_t g : ring) sum += normal[g];
+      flipped[f] = normal[f].dot(sum) < 0.0;
+    }
+  });
+  return static_cast<std::size_t>(std::count(flipped.begin(), flipped.end(), 1));
+}
+
+}  // namespace ism

@@ -1,0 +1,300 @@
+// Geometry images (float EXR), PNG previews and Draco meshes survive a round
+// trip, and bad files fail with a FileError naming the file.
+#include "io/image_io.hpp"
+#include "io/draco_io.hpp"
+#include "io/io.hpp"
+#include "mesh/mesh_check.hpp"
+#include "test_support.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <map>
+
+namespace ism {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  fs::path dir = test::binary_dir() / "test-scratch";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+// Runs f, expects a FileError and returns its message.
+template <class F>
+std::string file_error_message(F&& f) {
+  try {
+    f();
+  } catch (const io::FileError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no FileError thrown";
+  return {};
+}
+
+bool same_bits(float a, float b) {
+  return std::memcmp(&a, &b, sizeof(float)) == 0;
+}
+
+// ---------------------------------------------------------------- OpenEXR
+
+TEST(ExrIo, FloatRoundTripIsBitExactWithAttributes) {
+  const int n = 4;
+  std::vector<Eigen::Vector3f> pixels;
+  for (int i = 0; i < n * n; ++i)
+    pixels.emplace_back(std::sin(0.37f * i), -1e-3f * i * i, 12345.678f / (i + 1));
+  // Values that a half or lossy path would change.
+  pixels[0] = {std::numeric_limits<float>::denorm_min(), -0.0f, std::numeric_limits<float>::max()};
+  pixels[1] = {0.1f, 1.0f / 3.0f, std::numeric_limits<float>::quiet_NaN()};
+  const io::ExrAttributes attributes = {{"ism:layout", "octahedral"}, {"ism:version", "0.1.0"}};
+  const fs::path path = scratch("geometry_image.exr");
+  io::write_exr_rgb(path, n, n, pixels, attributes);
+
+  int width = 0, height = 0;
+  io::ExrAttributes read_attributes;
+  const auto back = io::read_exr_rgb(path, width, height, &read_attributes);
+  ASSERT_EQ(width, n);
+  ASSERT_EQ(height, n);
+  ASSERT_EQ(back.size(), pixels.size());
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_TRUE(same_bits(back[i][c], pixels[i][c])) << "pixel " << i << " channel " << c;
+  const std::map<std::string, std::string> found(read_attributes.begin(), read_attributes.end());
+  EXPECT_EQ(found.at("ism:layout"), "octahedral");
+  EXPECT_EQ(found.at("ism:version"), "0.1.0");
+
+  // The attributes are optional on the way in and out.
+  io::write_exr_rgb(path, n, n, pixels);
+  EXPECT_EQ(io::read_exr_rgb(path, width, height).size(), pixels.size());
+}
+
+TEST(ExrIo, NonSquareKeepsRowMajorTopRowFirst) {
+  const int width = 3, height = 5;
+  std::vector<Eigen::Vector3f> pixels;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) pixels.emplace_back(x, y, x + 10.0f * y);
+  const fs::path path = scratch("non_square.exr");
+  io::write_exr_rgb(path, width, height, pixels);
+
+  int w = 0, h = 0;
+  const auto back = io::read_exr_rgb(path, w, h);
+  EXPECT_EQ(w, width);
+  EXPECT_EQ(h, height);
+  ASSERT_EQ(back.size(), pixels.size());
+  for (std::size_t i = 0; i < pixels.size(); ++i) EXPECT_EQ(back[i], pixels[i]) << i;
+  // Cross-check the orientation with an independent reader: OIIO's row 0 is the top.
+  auto in = OIIO::ImageInput::open(path.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  std::vector<float> rgb(width * height * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.data()));
+  EXPECT_EQ(rgb[(1 * width + 2) * 3 + 2], 12.0f);  // x = 2, y = 1
+}
+
+TEST(ExrIo, WrongPixelCountIsRejected) {
+  const std::vector<Eigen::Vector3f> pixels(5);
+  EXPECT_THROW(io::write_exr_rgb(scratch("bad.exr"), 2, 3, pixels), std::invalid_argument);
+  EXPECT_THROW(io::write_exr_rgb(scratch("bad.exr"), 0, 0, {}), std::invalid_argument);
+  // A standard attribute of another type cannot be replaced by a string.
+  EXPECT_THROW(io::write_exr_rgb(scratch("bad.exr"), 5, 1, pixels, {{"compression", "zip"}}),
+               std::invalid_argument);
+}
+
+TEST(ExrIo, MissingFileThrowsNamingIt) {
+  const fs::path path = scratch("does_not_exist.exr");
+  fs::remove(path);
+  int w, h;
+  EXPECT_NE(file_error_message([&] { io::read_exr_rgb(path, w, h); }).find(path.string()),
+            std::string::npos);
+}
+
+TEST(ExrIo, NonExrFileThrowsNamingIt) {
+  const fs::path path = scratch("not_an_image.exr");
+  std::ofstream(path) << "this is not an OpenEXR file\n";
+  int w, h;
+  const std::string message = file_error_message([&] { io::read_exr_rgb(path, w, h); });
+  EXPECT_EQ(message.rfind(path.string(), 0), 0u) << message;
+}
+
+TEST(ExrIo, MissingChannelThrows) {
+  // An EXR whose channels are X, Y, Z instead of R, G, B, written by OIIO.
+  const fs::path path = scratch("xyz_channels.exr");
+  OIIO::ImageSpec spec(2, 2, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"X", "Y", "Z"};
+  const std::vector<float> data(12, 1.0f);
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, data.data()));
+  ASSERT_TRUE(out->close());
+  int w, h;
+  const std::string message = file_error_message([&] { io::read_exr_rgb(path, w, h); });
+  EXPECT_NE(message.find(path.string()), std::string::npos);
+  EXPECT_NE(message.find("channel R"), std::string::npos) << message;
+}
+
+TEST(ExrIo, UnwritablePathThrows) {
+  const fs::path path = scratch("no_such_dir") / "sub" / "x.exr";
+  const std::vector<Eigen::Vector3f> pixels(1);
+  EXPECT_NE(file_error_message([&] { io::write_exr_rgb(path, 1, 1, pixels); }).find(path.string()),
+            std::string::npos);
+}
+
+// ---------------------------------------------------------------- PNG
+
+TEST(PngIo, PreviewIsReadableBack) {
+  const int width = 4, height = 3;
+  std::vector<std::array<unsigned char, 3>> pixels;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      pixels.push_back({static_cast<unsigned char>(60 * x), static_cast<unsigned char>(100 * y),
+                        static_cast<unsigned char>(7)});
+  const fs::path path = scratch("preview.png");
+  io::write_png_preview(path, width, height, pixels);
+
+  auto in = OIIO::ImageInput::open(path.string());
+  ASSERT_TRUE(in) << OIIO::geterror();
+  EXPECT_STREQ(in->format_name(), "png");
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.width, width);
+  EXPECT_EQ(spec.height, height);
+  ASSERT_EQ(spec.nchannels, 3);
+  std::vector<unsigned char> back(width * height * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, back.data()));
+  const int x = 3, y = 2;
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(back[(y * width + x) * 3 + c], pixels[y * width + x][c]);
+}
+
+TEST(PngIo, FailuresThrow) {
+  const std::vector<std::array<unsigned char, 3>> pixels(4);
+  EXPECT_THROW(io::write_png_preview(scratch("bad.png"), 3, 1, pixels), std::invalid_argument);
+  const fs::path path = scratch("no_such_dir") / "sub" / "x.png";
+  EXPECT_NE(
+      file_error_message([&] { io::write_png_preview(path, 2, 2, pixels); }).find(path.string()),
+      std::string::npos);
+}
+
+// ---------------------------------------------------------------- Draco
+
+// Octahedron split 1:4 `levels` times, midpoints shared and pushed to the
+// unit sphere, so that no two vertices coincide.
+TriangleMesh subdivided_octahedron(int levels) {
+  TriangleMesh m;
+  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> midpoint;
+    auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      if (auto it = midpoint.find(key); it != midpoint.end()) return it->second;
+      m.positions.push_back((m.positions[a] + m.positions[b]).normalized());
+      return midpoint[key] = static_cast<int>(m.positions.size()) - 1;
+    };
+    std::vector<Triangle> finer;
+    for (const auto [a, b, c] : m.triangles) {
+      const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+      finer.insert(finer.end(), {{a, ab, ca}, {ab, b, bc}, {ca, bc, c}, {ab, bc, ca}});
+    }
+    m.triangles = std::move(finer);
+  }
+  return m;
+}
+
+PolygonSoup to_soup(const TriangleMesh& m) {
+  PolygonSoup soup{m.positions, {}};
+  for (const Triangle& t : m.triangles) soup.faces.push_back({t[0], t[1], t[2]});
+  return soup;
+}
+
+double quantization_tolerance(const TriangleMesh& m, int bits) {
+  return bounding_box_diagonal(m) / std::ldexp(1.0, bits) * 2;
+}
+
+TEST(DracoIo, SequentialKeepsOrderWithinQuantization) {
+  const TriangleMesh mesh = subdivided_octahedron(2);  // 66 vertices, 128 faces
+  const fs::path path = scratch("octahedron_seq.drc");
+  const int bits = 14;
+  io::write_draco(mesh, path, bits);
+  const TriangleMesh back = io::read_draco(path);
+
+  ASSERT_EQ(back.n_vertices(), mesh.n_vertices());
+  ASSERT_EQ(back.n_faces(), mesh.n_faces());
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  const double tolerance = quantization_tolerance(mesh, bits);
+  double worst = 0;
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    worst = std::max(worst, (back.positions[v] - mesh.positions[v]).norm());
+  EXPECT_LE(worst, tolerance);
+  EXPECT_GT(worst, 0.0);  // really quantized, not stored as floats
+  // The tighter per-axis bound documented in draco_io.hpp (box side is 2 here).
+  const double step = 2.0 / (std::ldexp(1.0, bits) - 1);
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    EXPECT_LE((back.positions[v] - mesh.positions[v]).cwiseAbs().maxCoeff(), step / 2 + 1e-6) << v;
+}
+
+TEST(DracoIo, EdgebreakerKeepsTopologyWithinQuantization) {
+  const TriangleMesh mesh = subdivided_octahedron(3);  // 258 vertices, 512 faces
+  const fs::path path = scratch("octahedron_eb.drc");
+  const int bits = 11;
+  io::write_draco(mesh, path, bits, io::DracoConnectivity::edgebreaker);
+  const TriangleMesh back = io::read_draco(path);
+
+  EXPECT_EQ(back.n_faces(), mesh.n_faces());
+  const PreparedMesh prepared = prepare_mesh(to_soup(back));
+  EXPECT_EQ(prepared.check.vertices, mesh.n_vertices());
+  EXPECT_EQ(prepared.check.faces, mesh.n_faces());
+  EXPECT_TRUE(prepared.check.closed());
+  EXPECT_EQ(prepared.check.genus, 0);
+  EXPECT_EQ(prepared.check.flipped_inward, false);
+  EXPECT_EQ(prepared.check.reoriented_faces, 0u);
+  // Vertices may be renumbered: match each to the nearest input vertex.
+  const double tolerance = quantization_tolerance(mesh, bits);
+  for (const Vec3& p : back.positions) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& q : mesh.positions) nearest = std::min(nearest, (p - q).norm());
+    EXPECT_LE(nearest, tolerance);
+  }
+  EXPECT_NEAR(signed_volume(back), signed_volume(mesh), 1e-2);
+}
+
+TEST(DracoIo, ZeroBitsIsLosslessFloat) {
+  const TriangleMesh mesh = subdivided_octahedron(1);
+  const fs::path path = scratch("octahedron_float.drc");
+  io::write_draco(mesh, path, 0);
+  const TriangleMesh back = io::read_draco(path);
+  ASSERT_EQ(back.n_vertices(), mesh.n_vertices());
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    EXPECT_EQ(back.positions[v], mesh.positions[v].cast<float>().cast<double>());
+}
+
+TEST(DracoIo, BadInputThrows) {
+  const TriangleMesh mesh = subdivided_octahedron(0);
+  EXPECT_THROW(io::write_draco(mesh, scratch("bad.drc"), 31), std::invalid_argument);
+  TriangleMesh broken = mesh;
+  broken.triangles[0][1] = 6;
+  EXPECT_THROW(io::write_draco(broken, scratch("bad.drc")), std::invalid_argument);
+  EXPECT_THROW(io::write_draco(TriangleMesh{}, scratch("bad.drc")), std::invalid_argument);
+
+  const fs::path missing = scratch("does_not_exist.drc");
+  fs::remove(missing);
+  EXPECT_NE(file_error_message([&] { io::read_draco(missing); }).find(missing.string()),
+            std::string::npos);
+  const fs::path garbage = scratch("garbage.drc");
+  std::ofstream(garbage) << "DRACO but not really";
+  EXPECT_NE(file_error_message([&] { io::read_draco(garbage); }).find(garbage.string()),
+            std::string::npos);
+  const fs::path unwritable = scratch("no_such_dir") / "sub" / "x.drc";
+  EXPECT_NE(
+      file_error_message([&] { io::write_draco(mesh, unwritable); }).find(unwritable.string()),
+      std::string::npos);
+}
+
+}  // namespace
+}  // namespace ism
