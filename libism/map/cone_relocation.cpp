@@ -5,47 +5,10 @@
 // one-ring. At coarse levels a step moves the cone far; later levels refine.
 #include "map/surface_map.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ism {
-
-namespace {
-
-// Kernel of a ring polygon by half-plane clipping, and its centroid: a point
-// where every face (p, ring[i], ring[i+1]) is positive, if any.
-std::optional<Vec2> kernel_point(const std::vector<Vec2>& ring) {
-  Vec2 lo = ring[0], hi = ring[0];
-  for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  std::vector<Vec2> poly{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
-  const std::size_t m = ring.size();
-  for (std::size_t i = 0; i < m && !poly.empty(); ++i) {
-    const Vec2& a = ring[i];
-    const Vec2& b = ring[(i + 1) % m];
-    std::vector<Vec2> out;
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-      const Vec2& p = poly[k];
-      const Vec2& q = poly[(k + 1) % poly.size()];
-      const double sp = orient(p, a, b), sq = orient(q, a, b);
-      if (sp > 0) out.push_back(p);
-      if ((sp > 0) != (sq > 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
-    }
-    poly = std::move(out);
-  }
-  if (poly.size() < 3) return std::nullopt;
-  Vec2 c = Vec2::Zero();
-  double area = 0;
-  for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Vec2& p = poly[k];
-    const Vec2& q = poly[(k + 1) % poly.size()];
-    const double w = p.x() * q.y() - p.y() * q.x();
-    area += w;
-    c += w * (p + q);
-  }
-  if (!(area > 0)) return std::nullopt;
-  return c / (3 * area);
-}
-
-}  // namespace
 
 double SurfaceMap::relocate_cone(int v) {
   const int x = at_domain_vertex_[v];
@@ -138,7 +101,7 @@ double SurfaceMap::relocate_cone(int v) {
       w_after += face_with(w_faces[k], w, Vec2::Zero(), w_vertices[k], w_ring[k], w_vertices[k + 1],
                            w_ring[k + 1]);
     if (!(w_after < HUGE_VAL)) continue;
-    std::optional<Vec2> start = kernel_point(ring);
+    std::optional<Vec2> start = kernel_centroid(ring);
     if (!start) continue;
     Vec2 pv = *start;
     const double v_after = minimize_in_kernel(ring, pv, energy_after_v);
@@ -169,6 +132,7 @@ double SurfaceMap::relocate_cone(int v) {
   if (!wedge_containing(x, face, layout, best.pv) ||
       !trace(face, layout, Vec2::Zero(), best.pv, scratch, at))
     return 0.0;
+  best.pv = interior_point(at.layout, best.pv);
   // Walks v -> ring[i] (w is the origin, reached at the cone's corner).
   std::vector<EdgeWalk> from_v(last + 1);
   for (std::size_t i = 0; i <= last; ++i) {
@@ -185,6 +149,16 @@ double SurfaceMap::relocate_cone(int v) {
     WalkEnd end;
     if (!trace_from(u, e.face, e.layout, Vec2::Zero(), to_w[k], end)) return 0.0;
   }
+
+  // Remember what changes, so that an inconsistent result can be undone.
+  std::vector<int> touched = vertex_faces_[v];
+  touched.insert(touched.end(), vertex_faces_[w].begin(), vertex_faces_[w].end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  std::vector<std::array<EdgeWalk, 3>> saved_walks;
+  for (int f : touched) saved_walks.push_back(walks_[f]);
+  const DomainLocation saved_v = location_[v], saved_w = location_[w];
+  const int saved_at_v = at_domain_vertex_[v], saved_at_w = at_domain_vertex_[w];
 
   // Locations: w onto the cone, v free.
   const auto& entry = domain_.fan(x).front();
@@ -209,6 +183,13 @@ double SurfaceMap::relocate_cone(int v) {
     walks_[f][corner_of(f, w)] = reversed(to_w[k]);
     const int g = face_after(u, w);  // (u, w, *): holds u -> w
     walks_[g][corner_of(g, u)] = to_w[k];
+  }
+  if (!faces_are_valid(touched)) {
+    for (std::size_t i = 0; i < touched.size(); ++i) walks_[touched[i]] = saved_walks[i];
+    location_[v] = saved_v, location_[w] = saved_w;
+    at_domain_vertex_[v] = saved_at_v, at_domain_vertex_[w] = saved_at_w;
+    pinned_[v] = 1, pinned_[w] = 0;
+    return 0.0;
   }
   return best.gain;
 }

@@ -1,6 +1,8 @@
 #include "map/surface_map.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -11,6 +13,9 @@ namespace ism {
 namespace {
 
 constexpr double kInside = -1e-10;  // barycentric tolerance of point-in-face tests
+// Vertices of M² are kept this far inside their M¹ face (in barycentric
+// terms), so that no vertex lies on an M¹ edge and crossings stay distinct.
+constexpr double kInteriorBary = 1e-9;
 
 bool inside(const Eigen::Vector3d& b) { return b.minCoeff() >= kInside; }
 
@@ -227,11 +232,17 @@ bool SurfaceMap::trace_from(int u, int face, std::array<Vec2, 3> layout, const V
   return trace(face, layout, from, p, walk, end);
 }
 
+Vec2 SurfaceMap::interior_point(const std::array<Vec2, 3>& layout, const Vec2& p) {
+  Eigen::Vector3d b = barycentric(p, layout[0], layout[1], layout[2]).cwiseMax(kInteriorBary);
+  b /= b.sum();
+  return b[0] * layout[0] + b[1] * layout[1] + b[2] * layout[2];
+}
+
 void SurfaceMap::set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p) {
   Eigen::Vector3d b = barycentric(p, layout[0], layout[1], layout[2]);
   // Keep vertices strictly inside their face so that point-in-face tests
   // never hesitate between two faces.
-  b = b.cwiseMax(1e-12);
+  b = b.cwiseMax(kInteriorBary);
   b /= b.sum();
   location_[v] = {face, b};
   at_domain_vertex_[v] = -1;
@@ -245,40 +256,75 @@ bool SurfaceMap::face_chart(int t, FaceChart& chart) const {
   chart.start_face = w[0].start_face;
   if (at_domain_vertex_[tri[0]] < 0 && location_[tri[0]].face != chart.start_face) return false;
   chart.start_layout = start_layout_of(tri[0], chart.start_face);
-  int face = chart.start_face;
-  std::array<Vec2, 3> layout = chart.start_layout;
-  chart.corner[0] = position_in(tri[0], face, layout);
-  for (int k = 0; k < 3; ++k) {
-    const int next = tri[(k + 1) % 3];
-    if (k > 0) {
-      // Continue from the previous walk's end; at an M¹ vertex turn
-      // clockwise (through the face's interior) to the next walk's start.
-      const int x = at_domain_vertex_[tri[k]];
-      if (x < 0) {
-        if (face != w[k].start_face) return false;
-      } else if (!rotate_to(x, face, layout, w[k].start_face, true)) {
-        return false;
-      }
+  chart.corner[0] = position_in(tri[0], chart.start_face, chart.start_layout);
+  chart.walk_layout[0] = chart.start_layout;
+  WalkEnd end = follow(w[0], chart.start_layout);
+  auto scale = [&] {
+    return (chart.corner[1] - chart.corner[0]).norm() + (chart.corner[2] - chart.corner[0]).norm();
+  };
+  for (int k = 1; k <= 3; ++k) {
+    const int here = tri[k % 3];
+    if (at_domain_vertex_[here] < 0 && location_[here].face != end.face) return false;
+    const Vec2 p = position_in(here, end.face, end.layout);
+    if (k == 3) {
+      // Back at the first corner: the walks must close up.
+      if ((p - chart.corner[0]).norm() > 1e-8 * (scale() + 1e-300)) return false;
+      break;
     }
-    chart.walk_layout[k] = layout;
-    const WalkEnd end = follow(w[k], layout);
-    face = end.face;
-    layout = end.layout;
-    if (at_domain_vertex_[next] < 0 && location_[next].face != face) return false;
-    const Vec2 p = position_in(next, face, layout);
-    if (k < 2) {
-      chart.corner[k + 1] = p;
-    } else {
-      // Back at the first corner: the walks must close up (no cone inside).
-      const double scale = (chart.corner[1] - chart.corner[0]).norm() +
-                           (chart.corner[2] - chart.corner[0]).norm();
-      if ((p - chart.corner[0]).norm() > 1e-8 * (scale + 1e-300)) return false;
-      const int x = at_domain_vertex_[tri[0]];
-      if (x >= 0) {
-        if (!rotate_to(x, face, layout, chart.start_face, true)) return false;
-        if ((layout[0] - chart.start_layout[0]).norm() > 1e-8 * (scale + 1e-300)) return false;
-      }
+    chart.corner[k] = p;
+    const int x = at_domain_vertex_[here];
+    if (x < 0) {
+      if (end.face != w[k].start_face) return false;
+      chart.walk_layout[k] = end.layout;
+      end = follow(w[k], end.layout);
+      continue;
     }
+    // At an M¹ vertex, turn clockwise (through the face's interior) to the
+    // next walk's start face. Around a cone one face id can come up twice
+    // within the turn, so the right copy is the one that puts the next
+    // corner clockwise of the previous one, as seen from the vertex.
+    int face = end.face;
+    std::array<Vec2, 3> layout = end.layout;
+    bool found = false;
+    for (std::size_t step = 0; step <= 2 * domain_.fan(x).size() && !found; ++step) {
+      if (face == w[k].start_face) {
+        const WalkEnd next = follow(w[k], layout);
+        const int after = tri[(k + 1) % 3];
+        if (at_domain_vertex_[after] >= 0 || location_[after].face == next.face) {
+          const Vec2 q = position_in(after, next.face, next.layout);
+          const Vec2 a = chart.corner[k - 1] - p, b = q - p;
+          if (a.x() * b.y() - a.y() * b.x() < 0) {
+            chart.walk_layout[k] = layout;
+            end = next;
+            found = true;
+            break;
+          }
+        }
+      }
+      const Triangle& d = domain_.mesh().triangles[face];
+      const int c = d[0] == x ? 0 : d[1] == x ? 1 : 2;
+      layout = domain_.unfold(face, layout, c);
+      face = domain_.neighbour(face, c);
+    }
+    if (!found) return false;
+  }
+  // A first corner on an M¹ vertex: turning from the last walk's end to the
+  // first walk's start must give back the start layout.
+  const int x0 = at_domain_vertex_[tri[0]];
+  if (x0 >= 0) {
+    int face = end.face;
+    std::array<Vec2, 3> layout = end.layout;
+    for (std::size_t step = 0; step <= 2 * domain_.fan(x0).size(); ++step) {
+      if (face == chart.start_face &&
+          (layout[0] - chart.start_layout[0]).norm() + (layout[1] - chart.start_layout[1]).norm() <=
+              1e-8 * (scale() + 1e-300))
+        return true;
+      const Triangle& d = domain_.mesh().triangles[face];
+      const int c = d[0] == x0 ? 0 : d[1] == x0 ? 1 : 2;
+      layout = domain_.unfold(face, layout, c);
+      face = domain_.neighbour(face, c);
+    }
+    return false;
   }
   return true;
 }
@@ -336,7 +382,7 @@ bool SurfaceMap::build_ring(int v, Ring& ring, int start_vertex) const {
     ring.centre_face = location_[v].face;
     ring.centre_layout = domain_.layout(ring.centre_face);
   }
-  double previous_start = -HUGE_VAL, extra = 0.0;
+  double previous = -HUGE_VAL, extra = 0.0;
   for (std::size_t i = 0; i < ring.faces.size(); ++i) {
     const EdgeWalk& w = walks_[ring.faces[i]][ring.corner[i]];
     std::array<Vec2, 3> start;
@@ -344,13 +390,18 @@ bool SurfaceMap::build_ring(int v, Ring& ring, int start_vertex) const {
       if (w.start_face != ring.centre_face) return false;
       start = ring.centre_layout;
     } else {
-      // Around an M¹ vertex: unwrap the fan so consecutive walks are
-      // consistent (exact all the way round for a flat vertex).
+      // Around an M¹ vertex: unwrap the fan so that consecutive walks leave
+      // at increasing angles (exact all the way round for a flat vertex; a
+      // contiguous part of the ring for a cone). The angle of a walk is that
+      // of its straight segment, which leaves through its start face.
       const int idx = fan_index(x, w.start_face);
       if (idx < 0) return false;
-      const double s = domain_.fan(x)[idx].start;
-      if (s + extra < previous_start - 1e-12) extra += domain_.total_angle(x);
-      previous_start = s + extra;
+      const WalkEnd probe = follow(w, domain_.fan_layout(x, idx, 0.0));
+      const Vec2 q = position_in(ring.vertices[i], probe.face, probe.layout);
+      double angle = std::atan2(q.y(), q.x());
+      while (angle < domain_.fan(x)[idx].start - 1e-9) angle += 2 * M_PI;
+      if (angle + extra <= previous + 1e-12) extra += domain_.total_angle(x);
+      previous = angle + extra;
       start = domain_.fan_layout(x, idx, extra);
       if (i == 0) {
         ring.centre_face = w.start_face;
@@ -384,6 +435,41 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
   }
   return sum;
 }
+
+// Kernel of a ring polygon by half-plane clipping, and its centroid: a point
+// where every face (p, ring[i], ring[i+1]) is positive, if any.
+std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
+  Vec2 lo = ring[0], hi = ring[0];
+  for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  std::vector<Vec2> poly{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
+  const std::size_t m = ring.size();
+  for (std::size_t i = 0; i < m && !poly.empty(); ++i) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[(i + 1) % m];
+    std::vector<Vec2> out;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Vec2& p = poly[k];
+      const Vec2& q = poly[(k + 1) % poly.size()];
+      const double sp = orient(p, a, b), sq = orient(q, a, b);
+      if (sp > 0) out.push_back(p);
+      if ((sp > 0) != (sq > 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+    }
+    poly = std::move(out);
+  }
+  if (poly.size() < 3) return std::nullopt;
+  Vec2 c = Vec2::Zero();
+  double area = 0;
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec2& p = poly[k];
+    const Vec2& q = poly[(k + 1) % poly.size()];
+    const double w = p.x() * q.y() - p.y() * q.x();
+    area += w;
+    c += w * (p + q);
+  }
+  if (!(area > 0)) return std::nullopt;
+  return c / (3 * area);
+}
+
 
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy) {
@@ -454,16 +540,26 @@ double SurfaceMap::optimize_vertex(int v) {
   if (!build_ring(v, ring)) return 0.0;
   ++optimizations_;
   if (ring.single_face) ++single_face_rings_;
-  const double e0 = ring_energy(ring, v, ring.centre);
+  double e0 = ring_energy(ring, v, ring.centre);
   Vec2 p = ring.centre;
+  if (!(e0 < HUGE_VAL)) {
+    // Degenerate (a face of zero area in floating point): restart from the
+    // middle of the kernel, which is always a valid place.
+    const std::optional<Vec2> centre = kernel_centroid(ring.positions);
+    if (!centre) return 0.0;
+    p = *centre;
+    const double e = ring_energy(ring, v, p);
+    if (!(e < HUGE_VAL)) return 0.0;
+    minimize_in_kernel(ring.positions, p, [&](const Vec2& q) { return ring_energy(ring, v, q); });
+    return move_vertex(v, ring, p) ? 1e-300 : 0.0;  // repaired; no energy to compare
+  }
   const double e = minimize_in_kernel(ring.positions, p,
                                       [&](const Vec2& q) { return ring_energy(ring, v, q); });
   if (!(e < e0 * (1 - 1e-12))) return 0.0;
-  move_vertex(v, ring, p);
-  return e0 - e;
+  return move_vertex(v, ring, p) ? e0 - e : 0.0;
 }
 
-void SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& p) {
+bool SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& target) {
   // Where p lies in M¹: walk from the old position.
   int face;
   std::array<Vec2, 3> layout;
@@ -471,35 +567,57 @@ void SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& p) {
   WalkEnd end;
   const int x = at_domain_vertex_[v];
   if (x < 0) {
-    if (!trace(ring.centre_face, ring.centre_layout, ring.centre, p, scratch, end)) return;
+    if (!trace(ring.centre_face, ring.centre_layout, ring.centre, target, scratch, end)) return false;
   } else {
     // From an M¹ vertex: start in the fan face whose angle holds p.
     int f = ring.centre_face;
     std::array<Vec2, 3> l = ring.centre_layout;
-    if (!wedge_containing(x, f, l, p) || !trace(f, l, Vec2::Zero(), p, scratch, end)) return;
+    if (!wedge_containing(x, f, l, target) || !trace(f, l, Vec2::Zero(), target, scratch, end)) return false;
   }
   face = end.face;
   layout = end.layout;
+  const Vec2 p = interior_point(layout, target);
 
   // New walks from p to every neighbour; commit only if all succeed.
   const std::size_t m = ring.faces.size();
   std::vector<EdgeWalk> forward(m);
   for (std::size_t i = 0; i < m; ++i) {
     WalkEnd e;
-    if (!trace(face, layout, p, ring.positions[i], forward[i], e)) return;
+    if (!trace(face, layout, p, ring.positions[i], forward[i], e)) return false;
     const int u = ring.vertices[i];
     if (at_domain_vertex_[u] < 0 ? e.face != location_[u].face
                                  : domain_.mesh().triangles[e.face][0] != at_domain_vertex_[u] &&
                                        domain_.mesh().triangles[e.face][1] != at_domain_vertex_[u] &&
                                        domain_.mesh().triangles[e.face][2] != at_domain_vertex_[u])
-      return;
+      return false;
   }
+  // Commit, then check the ring's faces: a walk that went round a cone the
+  // wrong way shows up as a face that does not close. Undo in that case.
+  const DomainLocation old_location = location_[v];
+  const int old_vertex = at_domain_vertex_[v];
+  std::vector<std::array<EdgeWalk, 3>> old_walks;
+  for (int f : ring.faces) old_walks.push_back(walks_[f]);
   set_location(v, face, layout, p);
   for (std::size_t i = 0; i < m; ++i) {
     const int f = ring.faces[i], c = ring.corner[i];
     walks_[f][c] = forward[i];
     walks_[f][(c + 2) % 3] = reversed(forward[(i + 1) % m]);
   }
+  if (!faces_are_valid(ring.faces)) {
+    location_[v] = old_location;
+    at_domain_vertex_[v] = old_vertex;
+    for (std::size_t i = 0; i < m; ++i) walks_[ring.faces[i]] = old_walks[i];
+    return false;
+  }
+  return true;
+}
+
+bool SurfaceMap::faces_are_valid(const std::vector<int>& faces) const {
+  FaceChart chart;
+  for (int f : faces)
+    if (!face_chart(f, chart) || !(orient(chart.corner[0], chart.corner[1], chart.corner[2]) > 0))
+      return false;
+  return true;
 }
 
 }  // namespace ism

@@ -63,6 +63,10 @@ struct MapMeasures {
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy);
 
+/// The centroid of the kernel of a polygon (the points p for which every
+/// triangle (p, ring[i], ring[i+1]) is counter-clockwise), if it is not empty.
+std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring);
+
 class SurfaceMap {
  public:
   /// The trivial map between the base mesh of `pm` and the domain: base
@@ -154,7 +158,11 @@ class SurfaceMap {
   bool trace_from(int u, int face, std::array<Vec2, 3> layout, const Vec2& p, EdgeWalk& walk,
                   WalkEnd& end) const;
   double ring_energy(const Ring& ring, int v, const Vec2& p) const;
-  void move_vertex(int v, const Ring& ring, const Vec2& p);
+  /// Moves v to chart point p and re-traces its edges; false (and nothing
+  /// changed) if that cannot be done consistently.
+  bool move_vertex(int v, const Ring& ring, const Vec2& target);
+  /// Every face in the list has a closing chart with positive area.
+  bool faces_are_valid(const std::vector<int>& faces) const;
 
   // Walks over M¹.
   WalkEnd follow(const EdgeWalk& walk, const std::array<Vec2, 3>& start_layout) const;
@@ -168,6 +176,8 @@ class SurfaceMap {
   bool rotate_to(int x, int& face, std::array<Vec2, 3>& layout, int target, bool clockwise) const;
   int fan_index(int x, int face) const;
   void set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p);
+  /// p moved strictly inside the face laid out as `layout` (see set_location).
+  static Vec2 interior_point(const std::array<Vec2, 3>& layout, const Vec2& p);
 
   void add_face(const Triangle& t);
   int corner_of(int f, int v) const;

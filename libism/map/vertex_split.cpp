@@ -17,77 +17,27 @@ int SurfaceMap::split_next() {
   const std::string where = "split " + std::to_string(next_split_) + " (vertex " +
                             std::to_string(s.vs) + " from " + std::to_string(s.vt) + ")";
 
-  // The ring of vt in a chart, starting at the face (vt, vl, *).
+  // The ring of vt in a chart, starting at the face (vt, vl, *): for a
+  // vertex on a cone the fan vl..vr is then unwrapped contiguously.
   Ring ring;
-  if (!build_ring(s.vt, ring)) throw std::runtime_error(where + ": invalid ring");
+  if (!build_ring(s.vt, ring, s.vl)) throw std::runtime_error(where + ": invalid ring");
   const std::size_t m = ring.faces.size();
-  std::size_t first = m;
-  for (std::size_t i = 0; i < m; ++i)
-    if (ring.vertices[i] == s.vl) first = i;
-  if (first == m) throw std::runtime_error(where + ": vl is not a neighbour");
-  // Rotate the ring so it starts at vl; rebuild positions for a cone centre
-  // so that the fan vl..vr is unwrapped contiguously.
-  auto rotate = [&](auto& v) { std::rotate(v.begin(), v.begin() + first, v.end()); };
-  rotate(ring.faces), rotate(ring.corner), rotate(ring.vertices), rotate(ring.positions);
-  rotate(ring.end_face), rotate(ring.end_layout);
   const int x = at_domain_vertex_[s.vt];
-  if (x >= 0) {
-    double previous = -HUGE_VAL, extra = 0.0;
-    for (std::size_t i = 0; i < m; ++i) {
-      const EdgeWalk& w = walks_[ring.faces[i]][ring.corner[i]];
-      const int idx = fan_index(x, w.start_face);
-      const double start = domain_.fan(x)[idx].start;
-      if (start + extra < previous - 1e-12) extra += domain_.total_angle(x);
-      previous = start + extra;
-      const WalkEnd end = follow(w, domain_.fan_layout(x, idx, extra));
-      ring.positions[i] = position_in(ring.vertices[i], end.face, end.layout);
-      ring.end_face[i] = end.face;
-      ring.end_layout[i] = end.layout;
-      if (i == 0) {
-        ring.centre_face = w.start_face;
-        ring.centre_layout = domain_.fan_layout(x, idx, extra);
-      }
-    }
-  }
   std::size_t last = m;  // index of vr in the ring
   for (std::size_t i = 1; i < m; ++i)
     if (ring.vertices[i] == s.vr) last = i;
   if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
 
-  // Direction for vs: inside the sector vl..vr (ccw) and on the correct side
-  // of both new faces (vs, vt, vl) and (vt, vs, vr).
+  // vs goes to the middle of the kernel of its new one-ring (vl .. vr, vt):
+  // exactly the places where all its faces, and the two new ones, are
+  // positive.
   const Vec2 pt = ring.centre;
-  double sector = 0.0;
-  for (std::size_t i = 0; i < last; ++i) {
-    const Vec2 a = ring.positions[i] - pt, b = ring.positions[i + 1] - pt;
-    sector += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-  }
-  const double phi = 0.5 * (std::max(0.0, sector - M_PI) + std::min(sector, M_PI));
-  const Vec2 dl = (ring.positions[0] - pt).normalized();
-  const Vec2 d(std::cos(phi) * dl.x() - std::sin(phi) * dl.y(),
-               std::sin(phi) * dl.x() + std::cos(phi) * dl.y());
-  double eps = HUGE_VAL;
-  for (std::size_t i = 0; i <= last; ++i) eps = std::min(eps, (ring.positions[i] - pt).norm());
-  eps *= 0.25;
-  Vec2 ps;
-  bool valid = false;
-  for (int attempt = 0; attempt < 60 && !valid; ++attempt, eps *= 0.5) {
-    ps = pt + eps * d;
-    valid = orient(ps, pt, ring.positions[0]) > 0 && orient(pt, ps, ring.positions[last]) > 0;
-    for (std::size_t i = 0; valid && i < last; ++i)
-      valid = orient(ps, ring.positions[i], ring.positions[i + 1]) > 0;
-  }
-  if (!valid) {
-    if (std::getenv("ISM_DEBUG")) {
-      std::fprintf(stderr, "x=%d sector=%g last=%zu m=%zu pt=(%g,%g)\n", x, sector, last, m, pt.x(), pt.y());
-      for (std::size_t i = 0; i < m; ++i) {
-        const EdgeWalk& w = walks_[ring.faces[i]][ring.corner[i]];
-        std::fprintf(stderr, "  %zu v=%d pos=(%g,%g) start=%d count=%d at=%d\n", i, ring.vertices[i], ring.positions[i].x(), ring.positions[i].y(), w.start_face, w.count, at_domain_vertex_[ring.vertices[i]]);
-      }
-    }
-    throw std::runtime_error(where + ": no valid position for the new vertex");
-  }
-
+  std::vector<Vec2> polygon(ring.positions.begin(), ring.positions.begin() + last + 1);
+  polygon.push_back(pt);
+  const std::optional<Vec2> kernel = kernel_centroid(polygon);
+  if (!kernel) throw std::runtime_error(where + ": no valid position for the new vertex");
+  Vec2 ps = *kernel;
+  const Vec2 d = (ps - pt).normalized();
   // Locate vs in M¹: from vt's position, in the face holding direction d.
   int face = ring.centre_face;
   std::array<Vec2, 3> layout = ring.centre_layout;
@@ -105,6 +55,7 @@ int SurfaceMap::split_next() {
   EdgeWalk scratch;
   WalkEnd at;
   if (!trace(face, layout, pt, ps, scratch, at)) throw std::runtime_error(where + ": cannot locate");
+  ps = interior_point(at.layout, ps);
 
   // Walks from vs to vl..vr and to vt.
   std::vector<EdgeWalk> forward(last + 1);

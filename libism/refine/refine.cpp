@@ -4,18 +4,35 @@
 
 namespace ism {
 
-double optimization_sweep(SurfaceMap& map) {
+namespace {
+
+// With validation on, every single operation is checked, so a failure names
+// the operation that broke the map.
+void check_operation(const SurfaceMap& map, bool on, const char* what, int v) {
+  if (!on) return;
+  if (auto problem = map.validate())
+    throw std::runtime_error(std::string("map invalid after ") + what + " of vertex " +
+                             std::to_string(v) + ": " + *problem);
+}
+
+}  // namespace
+
+double optimization_sweep(SurfaceMap& map, bool validate_each_step) {
   double gain = 0.0;
   // Released cones first: each may walk a few steps downhill.
   for (std::size_t x = 0; x < map.domain().n_vertices(); ++x)
     for (int step = 0; step < 4; ++step) {
       const int v = map.vertex_at_domain_vertex(int(x));
       const double g = v >= 0 ? map.relocate_cone(v) : 0.0;
+      check_operation(map, validate_each_step, "moving a cone", v);
       if (g <= 0) break;
       gain += g;
     }
   for (std::size_t v = 0; v < map.positions().size(); ++v)
-    if (map.is_active(int(v))) gain += map.optimize_vertex(int(v));
+    if (map.is_active(int(v))) {
+      gain += map.optimize_vertex(int(v));
+      check_operation(map, validate_each_step, "optimising", int(v));
+    }
   return gain;
 }
 
@@ -44,7 +61,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       const int max_sweeps = coarse ? 4 * options.max_level_sweeps : options.max_level_sweeps;
       const double min_gain = coarse ? 0.1 * options.level_relative_gain : options.level_relative_gain;
       for (int i = 0; i < max_sweeps; ++i) {
-        const double gain = optimization_sweep(map);
+        const double gain = optimization_sweep(map, options.validate_each_step);
         ++stats.sweeps;
         energy -= gain;
         if (gain < min_gain * energy) break;
@@ -57,7 +74,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   stats.energy_before_final = map.energy();
   double energy = stats.energy_before_final;
   for (int i = 0; i < options.max_final_sweeps; ++i) {
-    const double gain = optimization_sweep(map);
+    const double gain = optimization_sweep(map, options.validate_each_step);
     ++stats.final_sweeps;
     energy -= gain;
     if (gain < options.final_relative_gain * energy) break;

@@ -34,8 +34,9 @@ struct RefineStats {
 /// std::runtime_error when a validation (if asked for) fails.
 RefineStats refine(SurfaceMap& map, const RefineOptions& options = {});
 
-/// One optimisation pass over every active vertex, in index order; returns
-/// the energy decrease.
-double optimization_sweep(SurfaceMap& map);
+/// One optimisation pass: released cones first, then every active vertex in
+/// index order; returns the energy decrease. With `validate_each_step`,
+/// validate() after every operation (throws std::runtime_error naming it).
+double optimization_sweep(SurfaceMap& map, bool validate_each_step = false);
 
 }  // namespace ism

@@ -1,43 +1,21 @@
 // The command-line tools as a user runs them: exit status, one-line errors,
 // JSON keys, no output file on failure.
 #include "test_support.hpp"
+#include "tools_support.hpp"
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status;
-  std::string out, err;
-};
+using Result = ism::test::ToolResult;
+using ism::test::slurp;
 
-fs::path scratch_dir() {
-  fs::path dir = ism::test::binary_dir() / "test-scratch" / "tools";
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path scratch_dir() { return ism::test::scratch_dir("tools"); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-Result run(const std::string& tool, const std::string& args) {
-  // One pair of files per test: ctest runs the tests of this file in parallel.
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const fs::path out = scratch_dir() / (test + ".stdout"), err = scratch_dir() / (test + ".stderr");
-  const std::string cmd = (ism::test::binary_dir() / "bin" / tool).string() + " " + args + " >" +
-                          out.string() + " 2>" + err.string();
-  const int raw = std::system(cmd.c_str());
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
-}
+Result run(const std::string& tool, const std::string& args) { return ism::test::run_tool(tool, args); }
 
 std::size_t lines(const std::string& s) {
   return std::count(s.begin(), s.end(), '\n');

@@ -12,7 +12,7 @@
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
-#include "sample/sample.hpp"
+#include "sample/geometry_image_file.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
 
@@ -144,19 +144,8 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   });
 
   run.stage("write");
-  auto as_float = [](const GeometryImage& img) {
-    std::vector<Eigen::Vector3f> f(img.pixels.size());
-    for (std::size_t i = 0; i < f.size(); ++i) f[i] = img.pixels[i].cast<float>();
-    return f;
-  };
-  const std::vector<std::pair<std::string, std::string>> attributes{
-      {"ism:layout", "octahedral"}, {"ism:version", ISM_VERSION}};
-  write_output(run, o.output, [&](const auto& p) {
-    io::write_exr_rgb(p, o.size, o.size, as_float(image), attributes);
-  });
-  write_output(run, o.normals, [&](const auto& p) {
-    io::write_exr_rgb(p, o.size, o.size, as_float(normal_image), attributes);
-  });
+  write_output(run, o.output, [&](const auto& p) { write_geometry_image(image, p); });
+  write_output(run, o.normals, [&](const auto& p) { write_geometry_image(normal_image, p); });
   const TriangleMesh remesh = image_to_mesh(image);
   write_output(run, o.mesh, [&](const auto& p) {
     if (p.extension() == ".drc")

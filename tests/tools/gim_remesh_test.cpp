@@ -1,0 +1,95 @@
+// gim-remesh as a user runs it: images that rebuild into watertight genus-0
+// meshes, the report's measures, and clean refusals of unsuitable surfaces.
+#include "mesh/mesh_check.hpp"
+#include "sample/geometry_image_file.hpp"
+#include "test_support.hpp"
+#include "tools_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ism::test::run_tool;
+using ism::test::scratch_dir;
+using ism::test::slurp;
+
+// The image read back from disk is a closed, genus-0, consistently oriented
+// surface with nothing to repair.
+void expect_watertight_image(const fs::path& exr, int n) {
+  const ism::GeometryImage image = ism::read_geometry_image(exr);
+  EXPECT_EQ(image.n, n);
+  const ism::TriangleMesh mesh = ism::image_to_mesh(image);
+  ism::PolygonSoup soup{mesh.positions, {}};
+  for (const auto& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
+  const ism::MeshCheck c = ism::prepare_mesh(soup).check;
+  EXPECT_TRUE(c.valid_surface());
+  EXPECT_TRUE(c.closed());
+  EXPECT_EQ(c.genus, 0);
+  EXPECT_EQ(c.faces, std::size_t(2 * (n - 1) * (n - 1)));
+}
+
+TEST(GimRemesh, GeneratedBlobGivesAWatertightImageAndAReport) {
+  const fs::path dir = scratch_dir("gim");
+  const fs::path blob = dir / "blob.obj", exr = dir / "blob.exr", mesh = dir / "blob.ply",
+                 drc = dir / "blob.drc", report = dir / "blob.json", png = dir / "blob.png";
+  ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 3000 -o " + blob.string()).status, 0);
+  const auto r = run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 65 --mesh " +
+                                            mesh.string() + " --preview " + png.string() +
+                                            " --report " + report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_watertight_image(exr, 65);
+  EXPECT_TRUE(fs::exists(mesh));
+  EXPECT_TRUE(fs::exists(png));
+  const std::string json = slurp(report);
+  for (const char* key : {"\"partition\"", "\"symmetric_efficiency\"", "\"efficiency_square\"",
+                          "\"flipped_triangles\"", "\"psnr_db\"", "\"peak_memory_mb\"", "\"valid\": true"})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  ASSERT_EQ(run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 33 --mesh " +
+                                       drc.string() + " -q")
+                .status,
+            0);
+  EXPECT_GT(fs::file_size(drc), 100u);
+}
+
+TEST(GimRemesh, EveryClosedGenusZeroSharedModel) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path dir = scratch_dir("gim");
+  for (const char* name : {"bunny_small", "spot", "gargoyle", "max_planck", "igea", "nefertiti",
+                           "fandisk", "sphere", "cube", "bunny", "dragon"}) {
+    SCOPED_TRACE(name);
+    const fs::path exr = dir / (std::string(name) + ".exr");
+    const auto r = run_tool("gim-remesh", (ism::test::shared_models_dir() / (std::string(name) + ".obj")).string() +
+                                              " -o " + exr.string() + " --size 129 -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    expect_watertight_image(exr, 129);
+  }
+}
+
+TEST(GimRemesh, UnsuitableSurfacesAreRefusedWithoutOutput) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path out = scratch_dir("gim") / "refused.exr";
+  const auto models = ism::test::shared_models_dir();
+  const std::pair<fs::path, std::string> cases[] = {
+      {models / "bunny_open.obj", "5 boundary loops, gim-remesh needs a closed surface"},
+      {models / "torus.obj", "genus 1, gim-remesh needs genus 0"},
+      {models / "bad" / "two_tori_linked.obj", "2 connected components"},
+  };
+  for (const auto& [input, message] : cases) {
+    SCOPED_TRACE(input.string());
+    fs::remove(out);
+    const auto r = run_tool("gim-remesh", input.string() + " -o " + out.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind(input.string() + ": ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  const auto bad_size = run_tool("gim-remesh", (models / "sphere.obj").string() + " -o " +
+                                                   out.string() + " --size 100");
+  EXPECT_EQ(bad_size.status, 1);
+  EXPECT_NE(bad_size.err.find("2^k+1"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace

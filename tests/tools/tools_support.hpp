@@ -1,0 +1,44 @@
+#pragma once
+// Running the built command-line tools from tests.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace ism::test {
+
+struct ToolResult {
+  int status;
+  std::string out, err;
+};
+
+inline std::filesystem::path scratch_dir(const std::string& name) {
+  std::filesystem::path dir = binary_dir() / "test-scratch" / name;
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs build/bin/TOOL ARGS; stdout and stderr go to files named after the
+/// current test, since ctest runs tests in parallel.
+inline ToolResult run_tool(const std::string& tool, const std::string& args) {
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const auto dir = scratch_dir("tools");
+  const auto out = dir / (test + ".stdout"), err = dir / (test + ".stderr");
+  const std::string cmd = (binary_dir() / "bin" / tool).string() + " " + args + " >" + out.string() +
+                          " 2>" + err.string();
+  const int raw = std::system(cmd.c_str());
+  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+}  // namespace ism::test
