@@ -254,7 +254,9 @@ bool SurfaceMap::face_chart(int t, FaceChart& chart) const {
   const Triangle& tri = faces_[t];
   const auto& w = walks_[t];
   chart.start_face = w[0].start_face;
-  if (at_domain_vertex_[tri[0]] < 0 && location_[tri[0]].face != chart.start_face) return false;
+  if (at_domain_vertex_[tri[0]] < 0 ? location_[tri[0]].face != chart.start_face
+                                    : fan_index(at_domain_vertex_[tri[0]], chart.start_face) < 0)
+    return false;
   chart.start_layout = start_layout_of(tri[0], chart.start_face);
   chart.corner[0] = position_in(tri[0], chart.start_face, chart.start_layout);
   chart.walk_layout[0] = chart.start_layout;

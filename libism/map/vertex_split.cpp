@@ -37,7 +37,6 @@ int SurfaceMap::split_next() {
   const std::optional<Vec2> kernel = kernel_centroid(polygon);
   if (!kernel) throw std::runtime_error(where + ": no valid position for the new vertex");
   Vec2 ps = *kernel;
-  const Vec2 d = (ps - pt).normalized();
   // Locate vs in M¹: from vt's position, in the face holding direction d.
   int face = ring.centre_face;
   std::array<Vec2, 3> layout = ring.centre_layout;
