@@ -2,6 +2,9 @@
 // never raised by an accepted optimisation, and the quality the paper's
 // method should reach.
 #include "domain/domain.hpp"
+#include "io/io.hpp"
+#include "mesh/mesh_check.hpp"
+#include "partition/torus_features.hpp"
 #include "map/map.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
@@ -82,6 +85,64 @@ TEST(SurfaceMap, RefinedSphereBeatsTheAreaRatioMap) {
               m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency,
               stats.optimizations, 100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
   EXPECT_GE(m.forward_efficiency, 0.83);
+}
+
+}  // namespace
+}  // namespace ism
+
+namespace ism {
+namespace {
+
+// Refinement validated after every split and the optimisation that follows
+// it and after every sweep, then random operations (vertex moves and cone
+// relocations) in a fixed pseudo-random order, each validated and each
+// lowering the energy by what it reports.
+void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLengths>& lengths,
+                      const PathNetwork& network) {
+  const DomainGeometry geometry(domain_mesh, lengths);
+  const ProgressiveMesh pm = simplify_constrained(network, domain_mesh);
+  SurfaceMap map(geometry, pm);
+  std::size_t last_sweep = map.n_vertices();
+  for (int vs; (vs = map.split_next()) >= 0;) {
+    ASSERT_EQ(map.validate(), std::nullopt) << "after split " << map.splits_applied();
+    for (int w : map.neighbours(vs)) map.optimize_vertex(w);
+    map.optimize_vertex(vs);
+    ASSERT_EQ(map.validate(), std::nullopt) << "after optimising split " << map.splits_applied();
+    if (map.n_vertices() >= 3 * last_sweep / 2) {
+      optimization_sweep(map);
+      ASSERT_EQ(map.validate(), std::nullopt) << "after a sweep at " << map.n_vertices();
+      last_sweep = map.n_vertices();
+    }
+  }
+  std::uint64_t state = 12345;
+  auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
+  for (int i = 0; i < 400; ++i) {
+    const int v = int(next() % map.positions().size());
+    if (!map.is_active(v)) continue;
+    const double before = map.energy();
+    const double gain = map.is_pinned(v) ? map.relocate_cone(v) : map.optimize_vertex(v);
+    ASSERT_EQ(map.validate(), std::nullopt) << "after operation " << i << " on vertex " << v;
+    EXPECT_NEAR(before - map.energy(), gain, 1e-6 * before);
+  }
+}
+
+TEST(SurfaceMap, ValidThroughoutOnADecimatedBase) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh bunny =
+      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "bunny_small.obj")).mesh;
+  const ProgressiveMesh decimated = simplify_to(bunny, 50);
+  const TriangleMesh base = base_mesh(decimated);
+  refine_and_shake(base, equilateral_lengths(base),
+                   trace_path_network(bunny, base, decimated.base_vertices));
+}
+
+TEST(SurfaceMap, ValidThroughoutOnTheTorus) {
+  const TriangleMesh grid = domain::torus_3x3();
+  const TriangleMesh generated = shapes::torus(1500, 2, 1);
+  refine_and_shake(grid, torus_3x3_lengths(grid), trace_torus_network(generated));
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh cup = prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "cup.obj")).mesh;
+  refine_and_shake(grid, torus_3x3_lengths(grid), trace_torus_network(cup));
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
+#include "io/features.hpp"
 #include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
@@ -78,6 +80,30 @@ TEST(NetworkAndPm, DecimatedBaseMeshes) {
       expect_network_and_pm(s, base, trace_path_network(s, base, decimated.base_vertices));
     }
   }
+}
+
+}  // namespace
+}  // namespace ism
+
+namespace ism {
+namespace {
+
+TEST(NetworkAndPm, TorusOnGeneratedAndGenusOneModels) {
+  const TriangleMesh torus = domain::torus_3x3();
+  for (const TriangleMesh& s : {shapes::torus(4000, 2, 1), shapes::torus(6000, 3, 0.5)})
+    expect_network_and_pm(s, torus, trace_torus_network(s));
+  if (!test::have_shared_models()) GTEST_SKIP() << "shared models not found";
+  for (const char* file : {"torus.obj", "teapot.obj", "rocker_arm.obj", "mug.obj", "cup.obj",
+                           "bob.obj", "knot.obj"}) {
+    SCOPED_TRACE(file);
+    const TriangleMesh s = read_shared(file);
+    expect_network_and_pm(s, torus, trace_torus_network(s));
+  }
+  // The shared feature file of torus.obj, as given.
+  const TriangleMesh s = read_shared("torus.obj");
+  const auto file = test::shared_models_dir() / "torus_features_3x3.txt";
+  const auto features = io::resolve_features(io::read_feature_file(file), s, 3, file.string());
+  expect_network_and_pm(s, torus, trace_path_network(s, torus, features));
 }
 
 }  // namespace

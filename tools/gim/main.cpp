@@ -28,6 +28,7 @@ struct Options {
   std::string metric = "right-isosceles";
   bool hold_features = false;
   int draco_bits = 14;
+  int final_sweeps = 8;
 };
 
 // Area-weighted vertex normals of the map's surface.
@@ -121,6 +122,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   SurfaceMap map(domain, pm, {.release_features = !o.hold_features});
   RefineOptions refine_options;
   refine_options.progress = [&](double f) { progress.update(f); };
+  refine_options.max_final_sweeps = o.final_sweeps;
   const RefineStats stats = refine(map, refine_options);
 
   run.stage("validate");
@@ -207,6 +209,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"right-isosceles", "equilateral"}));
   app.add_option("--features", o.features, "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
   app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
+  app.add_option("--final-sweeps", o.final_sweeps,
+                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
+      ->check(CLI::Range(0, 1000));
   app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
   app.add_option("--mesh", o.mesh, "Remesh of the image (.obj, .ply, .off, .stl, .drc)");
   app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")->check(CLI::Range(8, 30));
