@@ -97,29 +97,37 @@ std::vector<int> farthest_points(const TriangleMesh& surface, int first) {
 
 }  // namespace
 
-PathNetwork trace_octahedral_network(const TriangleMesh& surface, const PartitionOptions& options) {
+std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
+                                                   const PartitionOptions& options) {
   const TriangleMesh octahedron = domain::octahedron();
   std::vector<std::vector<int>> attempts;
-  std::vector<int> extremes = principal_extremes(surface);
+  const std::vector<int> extremes = principal_extremes(surface);
   if (std::set<int>(extremes.begin(), extremes.end()).size() == 6) attempts.push_back(extremes);
-  attempts.push_back(farthest_points(surface, extremes[0]));
+  const std::vector<int> spread = farthest_points(surface, extremes[0]);
+  if (attempts.empty() || std::set<int>(spread.begin(), spread.end()) != std::set<int>(extremes.begin(), extremes.end()))
+    attempts.push_back(spread);
 
-  std::optional<PathNetwork> best;
+  std::vector<PathNetwork> valid;
   std::string last_error;
-  for (const auto& features : attempts) {
+  for (const auto& features : attempts)
     for (int chirality = 0; chirality < 2; ++chirality) {
       std::vector<int> assigned = features;
       if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
       try {
-        PathNetwork network = trace_path_network(surface, octahedron, assigned, options);
-        if (!best || network.total_length() < best->total_length()) best = std::move(network);
+        valid.push_back(trace_path_network(surface, octahedron, assigned, options));
       } catch (const PartitionError& e) {
         last_error = e.what();
       }
     }
-    if (best) return std::move(*best);
-  }
-  throw PartitionError("no octahedral path network found: " + last_error);
+  if (valid.empty()) throw PartitionError("no octahedral path network found: " + last_error);
+  std::stable_sort(valid.begin(), valid.end(), [](const PathNetwork& a, const PathNetwork& b) {
+    return a.total_length() < b.total_length();
+  });
+  return valid;
+}
+
+PathNetwork trace_octahedral_network(const TriangleMesh& surface, const PartitionOptions& options) {
+  return std::move(trace_octahedral_networks(surface, options).front());
 }
 
 }  // namespace ism

@@ -60,6 +60,12 @@ PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& 
 PathNetwork trace_octahedral_network(const TriangleMesh& surface,
                                      const PartitionOptions& options = {});
 
+/// Every valid octahedral network among the candidates tried (extremes of
+/// the principal axes and geodesic farthest points, each in both
+/// chiralities), shortest first; throws PartitionError when none is valid.
+std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
+                                                   const PartitionOptions& options = {});
+
 /// Checks a network: every patch a disc bounded by the three paths of its
 /// domain face with the same orientation, paths disjoint but at features.
 /// Returns the first problem found, or nothing.

@@ -45,7 +45,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   };
   std::size_t last_sweep = map.n_vertices();
   const std::size_t total = map.splits_total();
-  for (int vs; (vs = map.split_next()) >= 0;) {
+  for (int vs; map.n_vertices() < options.stop_at_vertices && (vs = map.split_next()) >= 0;) {
     ++stats.splits;
     check("after a split");
     const std::vector<int> ring = map.neighbours(vs);
@@ -70,6 +70,10 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       check("after a sweep");
     }
     if (options.progress && (stats.splits & 255) == 0) options.progress(double(stats.splits) / total);
+  }
+  if (map.splits_applied() < map.splits_total()) {  // stopped early: no final sweeps
+    stats.energy = map.energy();
+    return stats;
   }
   stats.energy_before_final = map.energy();
   double energy = stats.energy_before_final;

@@ -5,6 +5,7 @@
 // sweeps until the relative gain is small.
 #include "map/surface_map.hpp"
 
+#include <cstdint>
 #include <functional>
 
 namespace ism {
@@ -16,6 +17,9 @@ struct RefineOptions {
   std::size_t coarse_vertices = 2000;  // below this, 4x the sweeps and 1/10 the gain
   double final_relative_gain = 1e-3;  // stop final sweeps below this gain
   int max_final_sweeps = 8;
+  /// Stop the refinement once the surface has this many vertices (skipping
+  /// the final sweeps); refine() can be called again to go on.
+  std::size_t stop_at_vertices = SIZE_MAX;
   /// Call validate() after every split and sweep (for tests; slow).
   bool validate_each_step = false;
   std::function<void(double)> progress;  // fraction of splits done

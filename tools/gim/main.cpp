@@ -17,6 +17,7 @@
 #include "tool/failure.hpp"
 
 #include <cmath>
+#include <memory>
 
 namespace {
 
@@ -93,36 +94,63 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
       run.load_surface(o.input, {.tool = "gim-remesh", .closed = true, .genus = 0});
 
   run.stage("partition");
-  PathNetwork network;
+  std::vector<PathNetwork> networks;
   try {
     if (o.features.empty()) {
-      network = trace_octahedral_network(surface);
+      networks = trace_octahedral_networks(surface);
     } else {
       const auto entries = io::read_feature_file(o.features);
       const auto features = io::resolve_features(entries, surface, 0, o.features);
-      network = trace_path_network(surface, domain::octahedron(), features);
+      networks.push_back(trace_path_network(surface, domain::octahedron(), features));
     }
   } catch (const PartitionError& e) {
     throw tool::Failure(o.input + ": " + e.what());
   } catch (const io::FileError& e) {
     throw tool::Failure(e.what());
   }
-  if (!o.dump_patches.empty())
-    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(network, p); });
 
+  // Each valid network is a different homotopy class of maps, which local
+  // optimisation cannot leave. Refine each to a coarse level and go on with
+  // the one whose map has the lowest energy there.
   run.stage("progressive mesh");
   const TriangleMesh octahedron = domain::octahedron();
-  const ProgressiveMesh pm = simplify_constrained(network, octahedron);
-  run.report()["partition"] = partition_report(network, octahedron, pm);
-
-  tool::Progress& progress = run.stage("map");
   const DomainMetric metric =
       o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;
   const DomainGeometry domain(octahedron, octahedron_lengths(octahedron, metric));
-  SurfaceMap map(domain, pm, {.release_features = !o.hold_features});
+  struct Candidate {
+    PathNetwork network;
+    ProgressiveMesh pm;
+    std::unique_ptr<SurfaceMap> map;
+    double coarse_energy = 0;
+  };
+  std::vector<std::unique_ptr<Candidate>> candidates;
+  for (PathNetwork& network : networks) {
+    auto c = std::make_unique<Candidate>();
+    c->network = std::move(network);
+    c->pm = simplify_constrained(c->network, octahedron);
+    c->map = std::make_unique<SurfaceMap>(domain, c->pm, MapOptions{.release_features = !o.hold_features});
+    candidates.push_back(std::move(c));
+  }
+  tool::Progress& progress = run.stage("map");
   RefineOptions refine_options;
-  refine_options.progress = [&](double f) { progress.update(f); };
   refine_options.max_final_sweeps = o.final_sweeps;
+  std::size_t best = 0;
+  if (candidates.size() > 1) {
+    RefineOptions coarse = refine_options;
+    coarse.stop_at_vertices = 1000;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      refine(*candidates[i]->map, coarse);
+      candidates[i]->coarse_energy = candidates[i]->map->energy();
+      if (candidates[i]->coarse_energy < candidates[best]->coarse_energy) best = i;
+    }
+  }
+  Candidate& chosen = *candidates[best];
+  SurfaceMap& map = *chosen.map;
+  run.report()["partition"] = partition_report(chosen.network, octahedron, chosen.pm);
+  run.report()["partition"]["candidate_networks"] = candidates.size();
+  if (!o.dump_patches.empty())
+    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(chosen.network, p); });
+  refine_options.progress = [&](double f) { progress.update(f); };
   const RefineStats stats = refine(map, refine_options);
 
   run.stage("validate");
