@@ -12,8 +12,10 @@ echo "Octahedral map, $metric metric, $(nproc) cores. Times in seconds, memory i
 echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetric (sym)."
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
 echo
-echo "| model | faces | Steiner | partition | pm | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+echo "Partition: all candidate networks; pm + choice: their progressive meshes and coarse maps (1000 vertices)."
+echo
+echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
 for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cube bunny_small; do
   "$bin/map_bench" "$models/$m.obj" "$metric" || true
 done

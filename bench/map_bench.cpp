@@ -10,7 +10,7 @@
 #include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
-#include "refine/refine.hpp"
+#include "refine/network_choice.hpp"
 #include "tool/tool.hpp"
 
 #include <chrono>
@@ -28,23 +28,26 @@ int main(int argc, char** argv) {
   const auto t0 = Clock::now();
   const ism::TriangleMesh surface = ism::prepare_mesh(ism::io::read_polygon_soup(argv[1])).mesh;
   const auto t1 = Clock::now();
-  const ism::PathNetwork network = ism::trace_octahedral_network(surface);
+  std::vector<ism::PathNetwork> networks = ism::trace_octahedral_networks(surface);
   const auto t2 = Clock::now();
   const ism::TriangleMesh octahedron = ism::domain::octahedron();
-  const ism::ProgressiveMesh pm = ism::simplify_constrained(network, octahedron);
-  const auto t3 = Clock::now();
   const ism::DomainGeometry domain(
       octahedron, ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
                                                                   : ism::DomainMetric::right_isosceles));
-  ism::SurfaceMap map(domain, pm);
+  const std::size_t candidates = networks.size();
+  // Progressive meshes of every candidate and their coarse maps: the choice.
+  const auto chosen = ism::choose_network(std::move(networks), domain, {});
+  const auto t3 = Clock::now();
+  const ism::PathNetwork& network = chosen->network;
+  ism::SurfaceMap& map = *chosen->map;
   const ism::RefineStats stats = ism::refine(map);
   const auto t4 = Clock::now();
   const bool valid = !map.validate();
   const auto t5 = Clock::now();
   const ism::MapMeasures m = map.measures();
-  std::printf("| %s | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f | %.1f%% |\n",
+  std::printf("| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f | %.1f%% |\n",
               std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
-              network.steiner_vertices(), seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
+              network.steiner_vertices(), candidates, seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
               seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
               valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency,
               m.symmetric_efficiency,

@@ -10,7 +10,7 @@
 #include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
-#include "refine/refine.hpp"
+#include "refine/network_choice.hpp"
 #include "report/report.hpp"
 #include "sample/geometry_image_file.hpp"
 #include "tool/cli.hpp"
@@ -109,47 +109,22 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
     throw tool::Failure(e.what());
   }
 
-  // Each valid network is a different homotopy class of maps, which local
-  // optimisation cannot leave. Refine each to a coarse level and go on with
-  // the one whose map has the lowest energy there.
   run.stage("progressive mesh");
   const TriangleMesh octahedron = domain::octahedron();
   const DomainMetric metric =
       o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;
   const DomainGeometry domain(octahedron, octahedron_lengths(octahedron, metric));
-  struct Candidate {
-    PathNetwork network;
-    ProgressiveMesh pm;
-    std::unique_ptr<SurfaceMap> map;
-    double coarse_energy = 0;
-  };
-  std::vector<std::unique_ptr<Candidate>> candidates;
-  for (PathNetwork& network : networks) {
-    auto c = std::make_unique<Candidate>();
-    c->network = std::move(network);
-    c->pm = simplify_constrained(c->network, octahedron);
-    c->map = std::make_unique<SurfaceMap>(domain, c->pm, MapOptions{.release_features = !o.hold_features});
-    candidates.push_back(std::move(c));
-  }
+  const std::size_t candidates = networks.size();
   tool::Progress& progress = run.stage("map");
+  const std::unique_ptr<MapSetup> chosen =
+      choose_network(std::move(networks), domain, {.release_features = !o.hold_features});
+  SurfaceMap& map = *chosen->map;
+  run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
+  run.report()["partition"]["candidate_networks"] = candidates;
+  if (!o.dump_patches.empty())
+    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(chosen->network, p); });
   RefineOptions refine_options;
   refine_options.max_final_sweeps = o.final_sweeps;
-  std::size_t best = 0;
-  if (candidates.size() > 1) {
-    RefineOptions coarse = refine_options;
-    coarse.stop_at_vertices = 1000;
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-      refine(*candidates[i]->map, coarse);
-      candidates[i]->coarse_energy = candidates[i]->map->energy();
-      if (candidates[i]->coarse_energy < candidates[best]->coarse_energy) best = i;
-    }
-  }
-  Candidate& chosen = *candidates[best];
-  SurfaceMap& map = *chosen.map;
-  run.report()["partition"] = partition_report(chosen.network, octahedron, chosen.pm);
-  run.report()["partition"]["candidate_networks"] = candidates.size();
-  if (!o.dump_patches.empty())
-    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(chosen.network, p); });
   refine_options.progress = [&](double f) { progress.update(f); };
   const RefineStats stats = refine(map, refine_options);
 

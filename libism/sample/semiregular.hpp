@@ -1,0 +1,48 @@
+#pragma once
+// Semi-regular remeshes (paper §6.2, DESIGN.md §5 "Base mesh"): every face of
+// a base mesh sampled on the barycentric grid of N = 2^levels subdivisions,
+// the samples shared along base edges, so the result is watertight and has
+// exact subdivision connectivity (levels times 1-to-4 splits of the base).
+#include "mesh/triangle_mesh.hpp"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <functional>
+
+namespace ism {
+
+/// The semi-regular mesh of `base` at `levels` (0..10) subdivision levels.
+/// `point(f, bary)` gives the position of the base-face point with
+/// barycentric coordinates `bary` (weights of corners 0, 1, 2 of
+/// base.triangles[f]); it is called exactly once per output vertex.
+///
+/// Vertex numbering, with N = 2^levels, V/E/F the base's vertex/edge/face
+/// counts:
+///  - [0, V): vertex i is base vertex i, sampled at the corner of the first
+///    face (lowest index) that holds it.
+///  - [V, V + E(N-1)): N-1 vertices per base edge. Edges are numbered in order
+///    of first appearance when scanning faces f = 0.. and their edges
+///    (corner k, corner k+1), k = 0, 1, 2. Edge e with endpoints a < b owns
+///    vertices V + e(N-1) + j - 1, j = 1..N-1, at parameter j/N from a to b,
+///    sampled once, on the face where the edge first appears.
+///  - then (N-1)(N-2)/2 interior vertices per face, faces in order; in face f
+///    the point with weights ((N-i-j)/N, i/N, j/N), i, j >= 1, i + j <= N-1,
+///    comes in row-major order (j outer, i inner).
+/// Triangles: N² per base face, faces in order, counter-clockwise as the
+/// base face. A closed manifold base gives a closed manifold result of the
+/// same genus.
+TriangleMesh semiregular_mesh(const TriangleMesh& base, int levels,
+                              const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point);
+
+/// Undoes one level of 1-to-4 subdivision from connectivity alone. The first
+/// `base_vertices` vertices of `fine` must be vertices of the coarse mesh
+/// (e.g. the base vertices of semiregular_mesh()); the other coarse vertices
+/// are found by walking straight through the valence-6 edge vertices.
+/// Succeeds only when `fine` is exactly the 1-to-4 split of a triangle mesh:
+/// then `coarse` holds that mesh, its vertices being the even vertices of
+/// `fine` in increasing index order (so the first `base_vertices` keep their
+/// indices), with their positions. Returns false otherwise.
+bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMesh& coarse);
+
+}  // namespace ism
