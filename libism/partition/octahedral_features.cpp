@@ -109,9 +109,15 @@ std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
 
   std::vector<PathNetwork> valid;
   std::string last_error;
+  // Which antipodal pair sits on ±z matters when the metric tells the poles
+  // from the equator (right isosceles: flat poles, cone equator): cycle the
+  // pairs through the three roles. Then both chiralities of each.
+  const int roles = options.distinguish_poles ? 3 : 1;
   for (const auto& features : attempts)
+    for (int role = 0; role < roles; ++role)
     for (int chirality = 0; chirality < 2; ++chirality) {
-      std::vector<int> assigned = features;
+      std::vector<int> assigned(6);
+      for (int k = 0; k < 6; ++k) assigned[k] = features[(k + 2 * role) % 6];
       if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
       try {
         valid.push_back(trace_path_network(surface, octahedron, assigned, options));

@@ -44,6 +44,9 @@ struct PathNetwork {
 struct PartitionOptions {
   /// Progress callback with the fraction of paths traced (may be empty).
   std::function<void(double)> progress;
+  /// trace_octahedral_networks(): also try each antipodal pair as the poles
+  /// (for metrics in which the poles differ from the equator).
+  bool distinguish_poles = false;
 };
 
 /// Traces the network of `domain`'s connectivity on `surface` between the

@@ -97,7 +97,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   std::vector<PathNetwork> networks;
   try {
     if (o.features.empty()) {
-      networks = trace_octahedral_networks(surface);
+      networks = trace_octahedral_networks(surface, {.distinguish_poles = o.metric != "equilateral"});
     } else {
       const auto entries = io::read_feature_file(o.features);
       const auto features = io::resolve_features(entries, surface, 0, o.features);
