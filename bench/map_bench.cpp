@@ -32,8 +32,9 @@ int main(int argc, char** argv) {
   const auto t2 = Clock::now();
   const ism::TriangleMesh octahedron = ism::domain::octahedron();
   const ism::DomainGeometry domain(
-      octahedron, ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
-                                                                  : ism::DomainMetric::right_isosceles));
+      octahedron,
+      ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
+                                                      : ism::DomainMetric::right_isosceles));
   const std::size_t candidates = networks.size();
   // Progressive meshes of every candidate and their coarse maps: the choice.
   const auto chosen = ism::choose_network(std::move(networks), domain, {});
@@ -45,12 +46,13 @@ int main(int argc, char** argv) {
   const bool valid = !map.validate();
   const auto t5 = Clock::now();
   const ism::MapMeasures m = map.measures();
-  std::printf("| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f | %.1f%% |\n",
-              std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
-              network.steiner_vertices(), candidates, seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
-              seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
-              valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency,
-              m.symmetric_efficiency,
-              100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
+  std::printf(
+      "| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f "
+      "| %.1f%% |\n",
+      std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
+      network.steiner_vertices(), candidates, seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
+      seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
+      valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency, m.symmetric_efficiency,
+      100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
   return valid ? 0 : 1;
 }

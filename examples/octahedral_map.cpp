@@ -41,8 +41,9 @@ int main(int argc, char** argv) {
   const ism::ProgressiveMesh pm = ism::simplify_constrained(network, octahedron);
   lap("pm");
   const ism::DomainGeometry domain(
-      octahedron, ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
-                                                                  : ism::DomainMetric::right_isosceles));
+      octahedron,
+      ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
+                                                      : ism::DomainMetric::right_isosceles));
   ism::MapOptions map_options;
   map_options.release_features = std::getenv("ISM_HOLD") == nullptr;
   ism::SurfaceMap map(domain, pm, map_options);
@@ -58,7 +59,8 @@ int main(int argc, char** argv) {
   std::printf("efficiency: symmetric %.4f, domain->surface %.4f, surface->domain %.4f\n",
               m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency);
   std::printf("optimisations %zu, one-ring in one M¹ face %.1f%%, sweeps %zu + %zu final\n",
-              stats.optimizations, 100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations),
+              stats.optimizations,
+              100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations),
               stats.sweeps, stats.final_sweeps);
   std::printf("peak memory %.0f MB\n", ism::tool::peak_memory_bytes() / 1048576.0);
   return problem ? 1 : 0;

@@ -19,7 +19,8 @@ TriangleMesh torus_3x3() {
     for (int col = 0; col < 3; ++col) m.positions.push_back({col / 3.0, row / 3.0, 0.0});
   for (int row = 0; row < 3; ++row)
     for (int col = 0; col < 3; ++col) {
-      const int a = id(row, col), b = id(row, col + 1), c = id(row + 1, col + 1), d = id(row + 1, col);
+      const int a = id(row, col), b = id(row, col + 1), c = id(row + 1, col + 1),
+                d = id(row + 1, col);
       m.triangles.push_back({a, b, c});
       m.triangles.push_back({a, c, d});
     }

@@ -25,7 +25,8 @@ std::vector<FeatureEntry> read_feature_file(const std::filesystem::path& path);
 /// Surface vertices of the entries, in grid order (row * columns + col) when
 /// every entry has a grid position, else in file order. Throws FileError for
 /// an index out of range or a grid position outside rows × columns.
-std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries, const TriangleMesh& surface,
-                                  int columns, const std::string& file_name);
+std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries,
+                                  const TriangleMesh& surface, int columns,
+                                  const std::string& file_name);
 
 }  // namespace ism::io

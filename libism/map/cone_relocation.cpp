@@ -20,10 +20,10 @@ double SurfaceMap::relocate_cone(int v) {
     double gain = 0;
     int w = -1;
     Vec2 pv;
-    Ring v_ring;                     // v's ring starting after w: w is last
-    std::vector<Vec2> w_ring;        // w's neighbours in w's sheet, ccw from v
+    Ring v_ring;               // v's ring starting after w: w is last
+    std::vector<Vec2> w_ring;  // w's neighbours in w's sheet, ccw from v
     std::vector<int> w_vertices;
-    WalkEnd w_end;                   // layout of w's face in w's sheet
+    WalkEnd w_end;  // layout of w's face in w's sheet
   } best;
 
   for (std::size_t j = 0; j < m; ++j) {
@@ -50,9 +50,15 @@ double SurfaceMap::relocate_cone(int v) {
         const int c = corner_of(f, w);
         const int u = faces_[f][(c + 1) % 3];
         const EdgeWalk& walk = walks_[f][c];
-        if (walk.start_face != w_end.face) { ok = false; break; }
+        if (walk.start_face != w_end.face) {
+          ok = false;
+          break;
+        }
         const WalkEnd e = follow(walk, w_end.layout);
-        if (at_domain_vertex_[u] < 0 && location_[u].face != e.face) { ok = false; break; }
+        if (at_domain_vertex_[u] < 0 && location_[u].face != e.face) {
+          ok = false;
+          break;
+        }
         w_vertices.push_back(u);
         w_ring.push_back(position_in(u, e.face, e.layout));
         w_faces.push_back(f);
@@ -63,7 +69,8 @@ double SurfaceMap::relocate_cone(int v) {
     }
 
     // Energy now: v's faces (v at the cone, origin) and w's other faces.
-    auto face_with = [&](int f, int a, const Vec2& pa, int b, const Vec2& pb, int c, const Vec2& pc) {
+    auto face_with = [&](int f, int a, const Vec2& pa, int b, const Vec2& pb, int c,
+                         const Vec2& pc) {
       std::array<Vec2, 3> corner;
       corner[corner_of(f, a)] = pa;
       corner[corner_of(f, b)] = pb;
@@ -80,7 +87,8 @@ double SurfaceMap::relocate_cone(int v) {
     }
     // w's faces without v: w_ring[k], w_ring[k+1] for k = 1 .. size-2.
     for (std::size_t k = 1; k + 1 < w_ring.size(); ++k)
-      before += face_with(w_faces[k], w, pw, w_vertices[k], w_ring[k], w_vertices[k + 1], w_ring[k + 1]);
+      before +=
+          face_with(w_faces[k], w, pw, w_vertices[k], w_ring[k], w_vertices[k + 1], w_ring[k + 1]);
 
     // After: w at the cone (origin), v free inside its new ring: the
     // vertices after w around v, then the origin (w) last.

@@ -86,7 +86,9 @@ DomainGeometry::DomainGeometry(TriangleMesh connectivity, std::vector<FaceLength
     }
 }
 
-bool DomainGeometry::is_cone(int v) const { return std::abs(total_angle_[v] - 2 * M_PI) > 1e-9; }
+bool DomainGeometry::is_cone(int v) const {
+  return std::abs(total_angle_[v] - 2 * M_PI) > 1e-9;
+}
 
 std::array<Vec2, 3> DomainGeometry::fan_layout(int v, int i, double extra_angle) const {
   const FanEntry& e = fan_[v][i];

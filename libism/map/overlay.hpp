@@ -17,7 +17,8 @@ struct OverlayPiece {
 
 /// Calls `visit` for every piece of M² face t with positive area; returns
 /// false if t has no valid chart.
-bool for_each_piece(const SurfaceMap& map, int t, const std::function<void(const OverlayPiece&)>& visit);
+bool for_each_piece(const SurfaceMap& map, int t,
+                    const std::function<void(const OverlayPiece&)>& visit);
 
 /// Convex polygon clipped by the triangle (a, b, c), counter-clockwise.
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle);

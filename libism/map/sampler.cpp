@@ -73,8 +73,8 @@ std::optional<SurfacePoint> MapSampler::surface_point(int domain_face,
   const int t = g.entries[best].face;
   const Triangle& tri = map_.faces()[t];
   const auto& p = map_.positions();
-  return SurfacePoint{t, best_bary,
-                      best_bary[0] * p[tri[0]] + best_bary[1] * p[tri[1]] + best_bary[2] * p[tri[2]]};
+  return SurfacePoint{
+      t, best_bary, best_bary[0] * p[tri[0]] + best_bary[1] * p[tri[1]] + best_bary[2] * p[tri[2]]};
 }
 
 std::optional<DomainLocation> MapSampler::domain_point(int surface_face,

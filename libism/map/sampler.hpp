@@ -9,8 +9,8 @@
 namespace ism {
 
 struct SurfacePoint {
-  int face;                // face of M²
-  Eigen::Vector3d bary;    // in that face
+  int face;              // face of M²
+  Eigen::Vector3d bary;  // in that face
   Vec3 position;
 };
 

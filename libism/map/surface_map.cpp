@@ -1,9 +1,9 @@
 #include "map/surface_map.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cmath>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -17,7 +17,9 @@ constexpr double kInside = -1e-10;  // barycentric tolerance of point-in-face te
 // terms), so that no vertex lies on an M¹ edge and crossings stay distinct.
 constexpr double kInteriorBary = 1e-9;
 
-bool inside(const Eigen::Vector3d& b) { return b.minCoeff() >= kInside; }
+bool inside(const Eigen::Vector3d& b) {
+  return b.minCoeff() >= kInside;
+}
 
 }  // namespace
 
@@ -67,9 +69,9 @@ SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, 
   active_vertices_ = pm.base_vertices.size();
   for (std::size_t f = 0; f < faces_.size(); ++f) {
     const Triangle& t = faces_[f];
-    surface_area_ += 0.5 * (positions_[t[1]] - positions_[t[0]])
-                               .cross(positions_[t[2]] - positions_[t[0]])
-                               .norm();
+    surface_area_ +=
+        0.5 *
+        (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
   }
 }
 
@@ -138,7 +140,7 @@ Vec2 SurfaceMap::position_in(int v, int face, const std::array<Vec2, 3>& layout)
 }
 
 SurfaceMap::WalkEnd SurfaceMap::follow(const EdgeWalk& walk,
-                                        const std::array<Vec2, 3>& start_layout) const {
+                                       const std::array<Vec2, 3>& start_layout) const {
   WalkEnd end{walk.start_face, start_layout};
   for (int i = 0; i < walk.count; ++i) {
     const int k = walk.exit(i);
@@ -169,7 +171,11 @@ bool SurfaceMap::trace(int face, std::array<Vec2, 3> layout, const Vec2& from, c
   walk.start_face = face;
   int entry = -1;
   for (int guard = 0; guard <= EdgeWalk::kMaxCrossings; ++guard) {
-    if (inside(barycentric(to, layout[0], layout[1], layout[2]))) {
+    // A target at an M¹ vertex is in every face of its fan (tolerance); any
+    // other target counts as inside only with all coordinates >= 0, so that
+    // a vertex kept just inside its face is never found in the neighbour.
+    const Eigen::Vector3d b = barycentric(to, layout[0], layout[1], layout[2]);
+    if (b.minCoeff() >= (b.maxCoeff() > 1 - 1e-9 ? kInside : 0.0)) {
       end = {face, layout};
       return true;
     }
@@ -343,8 +349,8 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
   const Vec2 d0 = c - b, d1 = a - c, d2 = b - a;
   const double s0 = (q2 - q1).squaredNorm(), s1 = (q0 - q2).squaredNorm(),
                s2 = (q1 - q0).squaredNorm();
-  const double frob = -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) /
-                      (4 * area_d * area_d);
+  const double frob =
+      -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) / (4 * area_d * area_d);
   const double det = area_m / area_d;  // Γγ
   const double total_d = domain_.total_area(), total_m = surface_area_;
   // Forward stretch weighted by range area, backward by domain area, each
@@ -472,7 +478,6 @@ std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
   return c / (3 * area);
 }
 
-
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy) {
   const std::size_t m = ring.size();
@@ -555,8 +560,8 @@ double SurfaceMap::optimize_vertex(int v) {
     minimize_in_kernel(ring.positions, p, [&](const Vec2& q) { return ring_energy(ring, v, q); });
     return move_vertex(v, ring, p) ? 1e-300 : 0.0;  // repaired; no energy to compare
   }
-  const double e = minimize_in_kernel(ring.positions, p,
-                                      [&](const Vec2& q) { return ring_energy(ring, v, q); });
+  const double e =
+      minimize_in_kernel(ring.positions, p, [&](const Vec2& q) { return ring_energy(ring, v, q); });
   if (!(e < e0 * (1 - 1e-12))) return 0.0;
   return move_vertex(v, ring, p) ? e0 - e : 0.0;
 }
@@ -569,12 +574,14 @@ bool SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& target) {
   WalkEnd end;
   const int x = at_domain_vertex_[v];
   if (x < 0) {
-    if (!trace(ring.centre_face, ring.centre_layout, ring.centre, target, scratch, end)) return false;
+    if (!trace(ring.centre_face, ring.centre_layout, ring.centre, target, scratch, end))
+      return false;
   } else {
     // From an M¹ vertex: start in the fan face whose angle holds p.
     int f = ring.centre_face;
     std::array<Vec2, 3> l = ring.centre_layout;
-    if (!wedge_containing(x, f, l, target) || !trace(f, l, Vec2::Zero(), target, scratch, end)) return false;
+    if (!wedge_containing(x, f, l, target) || !trace(f, l, Vec2::Zero(), target, scratch, end))
+      return false;
   }
   face = end.face;
   layout = end.layout;
@@ -587,10 +594,11 @@ bool SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& target) {
     WalkEnd e;
     if (!trace(face, layout, p, ring.positions[i], forward[i], e)) return false;
     const int u = ring.vertices[i];
-    if (at_domain_vertex_[u] < 0 ? e.face != location_[u].face
-                                 : domain_.mesh().triangles[e.face][0] != at_domain_vertex_[u] &&
-                                       domain_.mesh().triangles[e.face][1] != at_domain_vertex_[u] &&
-                                       domain_.mesh().triangles[e.face][2] != at_domain_vertex_[u])
+    if (at_domain_vertex_[u] < 0
+            ? e.face != location_[u].face
+            : domain_.mesh().triangles[e.face][0] != at_domain_vertex_[u] &&
+                  domain_.mesh().triangles[e.face][1] != at_domain_vertex_[u] &&
+                  domain_.mesh().triangles[e.face][2] != at_domain_vertex_[u])
       return false;
   }
   // Commit, then check the ring's faces: a walk that went round a cone the

@@ -145,7 +145,7 @@ class SurfaceMap {
     std::vector<int> end_face;    // M¹ face each walk centre -> vertices[i] ends in
     std::vector<std::array<Vec2, 3>> end_layout;
     Vec2 centre = Vec2::Zero();
-    int centre_face = -1;         // face of the centre's start layout
+    int centre_face = -1;  // face of the centre's start layout
     std::array<Vec2, 3> centre_layout{};
     bool single_face = true;
   };
@@ -166,8 +166,8 @@ class SurfaceMap {
 
   // Walks over M¹.
   WalkEnd follow(const EdgeWalk& walk, const std::array<Vec2, 3>& start_layout) const;
-  bool trace(int face, std::array<Vec2, 3> layout, const Vec2& from, const Vec2& to,
-             EdgeWalk& walk, WalkEnd& end) const;
+  bool trace(int face, std::array<Vec2, 3> layout, const Vec2& from, const Vec2& to, EdgeWalk& walk,
+             WalkEnd& end) const;
   EdgeWalk reversed(const EdgeWalk& walk) const;
   std::array<Vec2, 3> start_layout_of(int v, int face) const;
   Vec2 position_in(int v, int face, const std::array<Vec2, 3>& layout) const;

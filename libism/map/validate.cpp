@@ -13,13 +13,15 @@ std::optional<std::string> SurfaceMap::validate() const {
   const double total_domain = domain_.total_area();
   std::vector<double> covered(domain_.n_faces(), 0.0);
   double total_chart = 0.0;
-  std::map<std::pair<int, int>, std::vector<std::pair<double, int>>> crossings;  // domain edge -> (s, t)
+  std::map<std::pair<int, int>, std::vector<std::pair<double, int>>>
+      crossings;  // domain edge -> (s, t)
   for (std::size_t t = 0; t < faces_.size(); ++t) {
     const std::string name = "face " + std::to_string(t);
     FaceChart chart;
     if (!face_chart(int(t), chart)) return name + ": its walks over M¹ do not close";
     const double area = 0.5 * orient(chart.corner[0], chart.corner[1], chart.corner[2]);
-    if (!(area > 0)) return name + ": flipped or degenerate image (area " + std::to_string(area) + ")";
+    if (!(area > 0))
+      return name + ": flipped or degenerate image (area " + std::to_string(area) + ")";
     total_chart += area;
     double pieces = 0.0;
     const bool ok = for_each_piece(*this, int(t), [&](const OverlayPiece& p) {
@@ -44,7 +46,8 @@ std::optional<std::string> SurfaceMap::validate() const {
         const double da = orient(from, to, a), db = orient(from, to, b);
         if (da * db > 0) return name + ": a walk crosses an M¹ edge its segment misses";
         const double s = da / (da - db);
-        const int u = domain_.mesh().triangles[face][e], v = domain_.mesh().triangles[face][(e + 1) % 3];
+        const int u = domain_.mesh().triangles[face][e],
+                  v = domain_.mesh().triangles[face][(e + 1) % 3];
         // Store by the undirected M¹ edge, s measured from its smaller vertex.
         const auto edge_key = std::make_pair(std::min(u, v), std::max(u, v));
         const double along = u < v ? s : 1 - s;

@@ -53,7 +53,8 @@ int SurfaceMap::split_next() {
   }
   EdgeWalk scratch;
   WalkEnd at;
-  if (!trace(face, layout, pt, ps, scratch, at)) throw std::runtime_error(where + ": cannot locate");
+  if (!trace(face, layout, pt, ps, scratch, at))
+    throw std::runtime_error(where + ": cannot locate");
   ps = interior_point(at.layout, ps);
 
   // Walks from vs to vl..vr and to vt.
@@ -75,7 +76,8 @@ int SurfaceMap::split_next() {
   // Topology: the fan vl..vr moves from vt to vs.
   auto area_of = [&](int f) {
     const Triangle& t = faces_[f];
-    return 0.5 * (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
+    return 0.5 *
+           (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
   };
   for (std::size_t i = 0; i < last; ++i) {
     const int f = ring.faces[i], c = ring.corner[i];

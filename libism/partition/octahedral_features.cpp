@@ -104,7 +104,8 @@ std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
   const std::vector<int> extremes = principal_extremes(surface);
   if (std::set<int>(extremes.begin(), extremes.end()).size() == 6) attempts.push_back(extremes);
   const std::vector<int> spread = farthest_points(surface, extremes[0]);
-  if (attempts.empty() || std::set<int>(spread.begin(), spread.end()) != std::set<int>(extremes.begin(), extremes.end()))
+  if (attempts.empty() || std::set<int>(spread.begin(), spread.end()) !=
+                              std::set<int>(extremes.begin(), extremes.end()))
     attempts.push_back(spread);
 
   std::vector<PathNetwork> valid;
@@ -115,16 +116,16 @@ std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
   const int roles = options.distinguish_poles ? 3 : 1;
   for (const auto& features : attempts)
     for (int role = 0; role < roles; ++role)
-    for (int chirality = 0; chirality < 2; ++chirality) {
-      std::vector<int> assigned(6);
-      for (int k = 0; k < 6; ++k) assigned[k] = features[(k + 2 * role) % 6];
-      if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
-      try {
-        valid.push_back(trace_path_network(surface, octahedron, assigned, options));
-      } catch (const PartitionError& e) {
-        last_error = e.what();
+      for (int chirality = 0; chirality < 2; ++chirality) {
+        std::vector<int> assigned(6);
+        for (int k = 0; k < 6; ++k) assigned[k] = features[(k + 2 * role) % 6];
+        if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
+        try {
+          valid.push_back(trace_path_network(surface, octahedron, assigned, options));
+        } catch (const PartitionError& e) {
+          last_error = e.what();
+        }
       }
-    }
   if (valid.empty()) throw PartitionError("no octahedral path network found: " + last_error);
   std::stable_sort(valid.begin(), valid.end(), [](const PathNetwork& a, const PathNetwork& b) {
     return a.total_length() < b.total_length();

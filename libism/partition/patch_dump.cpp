@@ -14,12 +14,24 @@ io::Rgb patch_colour(int patch) {
   const double x = 1.0 - std::abs(std::fmod(hue, 2.0) - 1.0);
   double r = 0, g = 0, b = 0;
   switch (int(hue)) {
-    case 0: r = 1, g = x; break;
-    case 1: r = x, g = 1; break;
-    case 2: g = 1, b = x; break;
-    case 3: g = x, b = 1; break;
-    case 4: r = x, b = 1; break;
-    default: r = 1, b = x; break;
+    case 0:
+      r = 1, g = x;
+      break;
+    case 1:
+      r = x, g = 1;
+      break;
+    case 2:
+      g = 1, b = x;
+      break;
+    case 3:
+      g = x, b = 1;
+      break;
+    case 4:
+      r = x, b = 1;
+      break;
+    default:
+      r = 1, b = x;
+      break;
   }
   auto channel = [](double c) { return static_cast<unsigned char>(80 + 160 * c); };
   return {channel(r), channel(g), channel(b)};

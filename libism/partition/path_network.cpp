@@ -109,7 +109,8 @@ void NetworkTracer::build_domain_rings() {
     for (int k = 0; k < 3; ++k) next[t[k]][t[(k + 1) % 3]] = t[(k + 2) % 3];
   ring_.assign(n, {});
   for (int i = 0; i < n; ++i) {
-    if (next[i].empty()) throw PartitionError("domain vertex " + std::to_string(i) + " has no faces");
+    if (next[i].empty())
+      throw PartitionError("domain vertex " + std::to_string(i) + " has no faces");
     int start = next[i].begin()->first, a = start;
     do {
       ring_[i].push_back(a);
@@ -118,7 +119,8 @@ void NetworkTracer::build_domain_rings() {
         throw PartitionError("the domain is not a closed manifold mesh");
       a = it->second;
     } while (a != start);
-    if (ring_[i].size() != next[i].size()) throw PartitionError("the domain is not a closed manifold mesh");
+    if (ring_[i].size() != next[i].size())
+      throw PartitionError("the domain is not a closed manifold mesh");
     for (int b : ring_[i])
       if (i < b) {
         edge_index_[{i, b}] = int(domain_edges_.size());
@@ -313,12 +315,15 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
         continue;
       }
       if (!still_valid(c)) {
-        if (auto fresh = shortest_path(c.edge)) queue.push(std::move(*fresh));
-        else deferred.push_back(c.edge);
+        if (auto fresh = shortest_path(c.edge))
+          queue.push(std::move(*fresh));
+        else
+          deferred.push_back(c.edge);
         continue;
       }
       insert(c);
-      const int expected = traced_ <= non_separating_paths_ ? 1 : traced_ - non_separating_paths_ + 1;
+      const int expected =
+          traced_ <= non_separating_paths_ ? 1 : traced_ - non_separating_paths_ + 1;
       if (count_regions() != expected) {
         // Separating too early, or not splitting a region: undo, try others.
         paths_[c.edge].clear();
@@ -408,8 +413,8 @@ PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& 
                            std::to_string(features[i]) + " out of range (the surface has " +
                            std::to_string(surface.n_vertices()) + " vertices)");
     if (!seen.insert(features[i]).second)
-      throw PartitionError("features " + std::to_string(i) + " and another one are the same vertex " +
-                           std::to_string(features[i]));
+      throw PartitionError("features " + std::to_string(i) +
+                           " and another one are the same vertex " + std::to_string(features[i]));
   }
   // Genus of both sides (closed surfaces: chi = V - E + F = 2 - 2g).
   auto euler = [](const TriangleMesh& m) {

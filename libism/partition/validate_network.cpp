@@ -51,7 +51,8 @@ double PathNetwork::total_length() const {
   return sum;
 }
 
-std::optional<std::string> validate_network(const PathNetwork& network, const TriangleMesh& domain) {
+std::optional<std::string> validate_network(const PathNetwork& network,
+                                            const TriangleMesh& domain) {
   const TriangleMesh& surface = network.surface;
   if (network.features.size() != domain.n_vertices()) return "wrong number of features";
   if (network.face_patch.size() != surface.n_faces()) return "face_patch has the wrong size";
@@ -74,7 +75,8 @@ std::optional<std::string> validate_network(const PathNetwork& network, const Tr
     const auto& path = network.paths[e];
     const auto [a, b] = network.domain_edges[e];
     const std::string name = "path " + std::to_string(a) + "-" + std::to_string(b);
-    if (path.size() < 2 || path.front() != network.features[a] || path.back() != network.features[b])
+    if (path.size() < 2 || path.front() != network.features[a] ||
+        path.back() != network.features[b])
       return name + " does not join its features";
     for (std::size_t k = 1; k + 1 < path.size(); ++k) {
       if (feature_set.count(path[k])) return name + " passes through a feature";

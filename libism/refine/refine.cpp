@@ -59,7 +59,8 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       // Coarse levels are cheap: let them converge further.
       const bool coarse = map.n_vertices() < options.coarse_vertices;
       const int max_sweeps = coarse ? 4 * options.max_level_sweeps : options.max_level_sweeps;
-      const double min_gain = coarse ? 0.1 * options.level_relative_gain : options.level_relative_gain;
+      const double min_gain =
+          coarse ? 0.1 * options.level_relative_gain : options.level_relative_gain;
       for (int i = 0; i < max_sweeps; ++i) {
         const double gain = optimization_sweep(map, options.validate_each_step);
         ++stats.sweeps;
@@ -69,7 +70,8 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       last_sweep = map.n_vertices();
       check("after a sweep");
     }
-    if (options.progress && (stats.splits & 255) == 0) options.progress(double(stats.splits) / total);
+    if (options.progress && (stats.splits & 255) == 0)
+      options.progress(double(stats.splits) / total);
   }
   if (map.splits_applied() < map.splits_total()) {  // stopped early: no final sweeps
     stats.energy = map.energy();

@@ -12,10 +12,10 @@ namespace ism {
 
 struct RefineOptions {
   double sweep_growth = 1.5;
-  int max_level_sweeps = 10;           // sweeps per level while they still gain
+  int max_level_sweeps = 10;  // sweeps per level while they still gain
   double level_relative_gain = 2e-3;
   std::size_t coarse_vertices = 2000;  // below this, 4x the sweeps and 1/10 the gain
-  double final_relative_gain = 1e-3;  // stop final sweeps below this gain
+  double final_relative_gain = 1e-3;   // stop final sweeps below this gain
   int max_final_sweeps = 8;
   /// Stop the refinement once the surface has this many vertices (skipping
   /// the final sweeps); refine() can be called again to go on.

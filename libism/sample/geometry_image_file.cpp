@@ -16,7 +16,8 @@ GeometryImage read_geometry_image(const std::filesystem::path& path) {
   int width = 0, height = 0;
   const std::vector<Eigen::Vector3f> pixels = io::read_exr_rgb(path, width, height);
   if (width != height || !is_geometry_image_size(width))
-    throw io::FileError(path.string() + ": " + std::to_string(width) + "x" + std::to_string(height) +
+    throw io::FileError(path.string() + ": " + std::to_string(width) + "x" +
+                        std::to_string(height) +
                         " is not an octahedral geometry image (square, 2^k+1 pixels)");
   GeometryImage image;
   image.n = width;

@@ -14,9 +14,11 @@ std::uint64_t edge_key(int a, int b) {
 
 }  // namespace
 
-TriangleMesh semiregular_mesh(const TriangleMesh& base, int levels,
-                              const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point) {
-  if (levels < 0 || levels > 10) throw std::invalid_argument("semiregular_mesh: levels must be in 0..10");
+TriangleMesh semiregular_mesh(
+    const TriangleMesh& base, int levels,
+    const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point) {
+  if (levels < 0 || levels > 10)
+    throw std::invalid_argument("semiregular_mesh: levels must be in 0..10");
   const int n = 1 << levels;
   const int nv = int(base.n_vertices());
   const int nf = int(base.n_faces());
@@ -66,7 +68,8 @@ TriangleMesh semiregular_mesh(const TriangleMesh& base, int levels,
     // Edges: corner k to corner k+1, step s = 1..n-1 from corner k.
     for (int k = 0; k < 3; ++k) {
       const int a = t[k], b = t[(k + 1) % 3];
-      const std::size_t first = edge_start + per_edge * std::size_t(face_edge[3 * std::size_t(f) + k]);
+      const std::size_t first =
+          edge_start + per_edge * std::size_t(face_edge[3 * std::size_t(f) + k]);
       const int k1 = (k + 1) % 3;
       for (int s = 1; s < n; ++s) {
         const int i = ci[k] + (ci[k1] - ci[k]) / n * s, j = cj[k] + (cj[k1] - cj[k]) / n * s;
@@ -156,7 +159,8 @@ bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMe
   };
   std::vector<Triangle> expected, faces;
   for (const Triangle& t : fine.triangles) {
-    const int k = int(std::find_if(t.begin(), t.end(), [&](int v) { return label[v] == even; }) - t.begin());
+    const int k =
+        int(std::find_if(t.begin(), t.end(), [&](int v) { return label[v] == even; }) - t.begin());
     if (k == 3) continue;  // middle face, checked below
     const int a = t[k], m1 = t[(k + 1) % 3], m2 = t[(k + 2) % 3];
     if (label[m1] != odd || label[m2] != odd) return false;
@@ -182,7 +186,8 @@ bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMe
   std::sort(expected.begin(), expected.end());
   std::sort(actual.begin(), actual.end());
   if (expected != actual) return false;
-  for (const Triangle& f : faces) coarse.triangles.push_back({index[f[0]], index[f[1]], index[f[2]]});
+  for (const Triangle& f : faces)
+    coarse.triangles.push_back({index[f[0]], index[f[1]], index[f[2]]});
   return true;
 }
 

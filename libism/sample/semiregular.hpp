@@ -32,8 +32,9 @@ namespace ism {
 /// Triangles: N² per base face, faces in order, counter-clockwise as the
 /// base face. A closed manifold base gives a closed manifold result of the
 /// same genus.
-TriangleMesh semiregular_mesh(const TriangleMesh& base, int levels,
-                              const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point);
+TriangleMesh semiregular_mesh(
+    const TriangleMesh& base, int levels,
+    const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point);
 
 /// Undoes one level of 1-to-4 subdivision from connectivity alone. The first
 /// `base_vertices` vertices of `fine` must be vertices of the coarse mesh

@@ -3,10 +3,10 @@
 // method should reach.
 #include "domain/domain.hpp"
 #include "io/io.hpp"
-#include "mesh/mesh_check.hpp"
-#include "partition/torus_features.hpp"
 #include "map/map.hpp"
+#include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
@@ -38,7 +38,8 @@ TEST(SurfaceMap, BaseMapIsValid) {
 TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
   for (int variant = 0; variant < 3; ++variant) {
     SCOPED_TRACE(variant);
-    const DomainMetric metric = variant == 1 ? DomainMetric::equilateral : DomainMetric::right_isosceles;
+    const DomainMetric metric =
+        variant == 1 ? DomainMetric::equilateral : DomainMetric::right_isosceles;
     OctahedralSetup s(shapes::blob(600, 4, 0.4), metric);
     SurfaceMap map(s.geometry, s.pm, {.release_features = variant != 2});
     for (int vs; (vs = map.split_next()) >= 0;) {
@@ -81,9 +82,11 @@ TEST(SurfaceMap, RefinedSphereBeatsTheAreaRatioMap) {
   const RefineStats stats = refine(map);
   EXPECT_EQ(map.validate(), std::nullopt);
   const MapMeasures m = map.measures();
-  std::printf("sphere: symmetric %.4f, domain->surface %.4f, surface->domain %.4f; %zu opts, %.1f%% single-face\n",
-              m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency,
-              stats.optimizations, 100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
+  std::printf(
+      "sphere: symmetric %.4f, domain->surface %.4f, surface->domain %.4f; %zu opts, %.1f%% "
+      "single-face\n",
+      m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency, stats.optimizations,
+      100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
   EXPECT_GE(m.forward_efficiency, 0.83);
 }
 
@@ -115,7 +118,9 @@ void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLen
     }
   }
   std::uint64_t state = 12345;
-  auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
+  auto next = [&] {
+    return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33;
+  };
   for (int i = 0; i < 400; ++i) {
     const int v = int(next() % map.positions().size());
     if (!map.is_active(v)) continue;
@@ -141,7 +146,8 @@ TEST(SurfaceMap, ValidThroughoutOnTheTorus) {
   const TriangleMesh generated = shapes::torus(1500, 2, 1);
   refine_and_shake(grid, torus_3x3_lengths(grid), trace_torus_network(generated));
   ISM_REQUIRE_SHARED_MODELS();
-  const TriangleMesh cup = prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "cup.obj")).mesh;
+  const TriangleMesh cup =
+      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "cup.obj")).mesh;
   refine_and_shake(grid, torus_3x3_lengths(grid), trace_torus_network(cup));
 }
 

@@ -2,9 +2,9 @@
 // every closed genus-0 shared model with the octahedron and with decimated
 // base meshes of about 20, 50 and 100 vertices; base = domain, exact replay.
 #include "domain/domain.hpp"
+#include "io/features.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
-#include "io/features.hpp"
 #include "partition/partition.hpp"
 #include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
@@ -35,7 +35,8 @@ void expect_network_and_pm(const TriangleMesh& surface, const TriangleMesh& doma
   EXPECT_EQ(validate_network(network, domain), std::nullopt);
   const ProgressiveMesh pm = simplify_constrained(network, domain);
   EXPECT_EQ(rotated_faces(base_mesh(pm)), rotated_faces(domain));
-  for (std::size_t i = 0; i < domain.n_vertices(); ++i) EXPECT_EQ(pm.base_vertices[i], network.features[i]);
+  for (std::size_t i = 0; i < domain.n_vertices(); ++i)
+    EXPECT_EQ(pm.base_vertices[i], network.features[i]);
   const TriangleMesh full = replay(pm);
   EXPECT_EQ(rotated_faces(full), rotated_faces(network.surface));
   EXPECT_EQ(full.positions, network.surface.positions);
@@ -46,15 +47,14 @@ TriangleMesh read_shared(const std::string& file) {
   return prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / file)).mesh;
 }
 
-const char* const kGenusZero[] = {"bunny_small.obj", "spot.obj",       "gargoyle.obj",
-                                  "max_planck.obj",  "igea.obj",       "nefertiti.obj",
-                                  "fandisk.obj",     "sphere.obj",     "cube.obj",
-                                  "bunny.obj",       "dragon.obj"};
+const char* const kGenusZero[] = {
+    "bunny_small.obj", "spot.obj",   "gargoyle.obj", "max_planck.obj", "igea.obj",  "nefertiti.obj",
+    "fandisk.obj",     "sphere.obj", "cube.obj",     "bunny.obj",      "dragon.obj"};
 
 TEST(NetworkAndPm, OctahedronOnGeneratedSurfaces) {
   const TriangleMesh octahedron = domain::octahedron();
-  for (const TriangleMesh& s : {shapes::sphere(3000), shapes::blob(5000, 7, 0.5),
-                                shapes::ellipsoid(4000, {3, 1, 0.5})})
+  for (const TriangleMesh& s :
+       {shapes::sphere(3000), shapes::blob(5000, 7, 0.5), shapes::ellipsoid(4000, {3, 1, 0.5})})
     expect_network_and_pm(s, octahedron, trace_octahedral_network(s));
 }
 
@@ -93,8 +93,8 @@ TEST(NetworkAndPm, TorusOnGeneratedAndGenusOneModels) {
   for (const TriangleMesh& s : {shapes::torus(4000, 2, 1), shapes::torus(6000, 3, 0.5)})
     expect_network_and_pm(s, torus, trace_torus_network(s));
   if (!test::have_shared_models()) GTEST_SKIP() << "shared models not found";
-  for (const char* file : {"torus.obj", "teapot.obj", "rocker_arm.obj", "mug.obj", "cup.obj",
-                           "bob.obj", "knot.obj"}) {
+  for (const char* file :
+       {"torus.obj", "teapot.obj", "rocker_arm.obj", "mug.obj", "cup.obj", "bob.obj", "knot.obj"}) {
     SCOPED_TRACE(file);
     const TriangleMesh s = read_shared(file);
     expect_network_and_pm(s, torus, trace_torus_network(s));

@@ -45,9 +45,9 @@ TEST(OctahedralNetwork, GeneratedSpheresAndBlobs) {
 
 TEST(OctahedralNetwork, EveryClosedGenusZeroSharedModel) {
   ISM_REQUIRE_SHARED_MODELS();
-  for (const char* file : {"bunny_small.obj", "spot.obj", "gargoyle.obj", "max_planck.obj",
-                           "igea.obj", "nefertiti.obj", "fandisk.obj", "sphere.obj", "cube.obj",
-                           "bunny.obj", "dragon.obj"}) {
+  for (const char* file :
+       {"bunny_small.obj", "spot.obj", "gargoyle.obj", "max_planck.obj", "igea.obj",
+        "nefertiti.obj", "fandisk.obj", "sphere.obj", "cube.obj", "bunny.obj", "dragon.obj"}) {
     SCOPED_TRACE(file);
     expect_octahedral_network(read_shared(file));
   }
@@ -59,7 +59,8 @@ TEST(TorusNetwork, SharedFeatureFilesGiveEighteenDiscs) {
     SCOPED_TRACE(name);
     const TriangleMesh surface = read_shared(std::string(name) + ".obj");
     const auto file = test::shared_models_dir() / (std::string(name) + "_features_3x3.txt");
-    const auto features = io::resolve_features(io::read_feature_file(file), surface, 3, file.string());
+    const auto features =
+        io::resolve_features(io::read_feature_file(file), surface, 3, file.string());
     const PathNetwork net = trace_path_network(surface, domain::torus_3x3(), features);
     EXPECT_EQ(validate_network(net, domain::torus_3x3()), std::nullopt);
     EXPECT_EQ(std::set<int>(net.face_patch.begin(), net.face_patch.end()).size(), 18u);

@@ -34,16 +34,17 @@ TEST(GimRemesh, GeneratedBlobGivesAWatertightImageAndAReport) {
   const fs::path blob = dir / "blob.obj", exr = dir / "blob.exr", mesh = dir / "blob.ply",
                  drc = dir / "blob.drc", report = dir / "blob.json", png = dir / "blob.png";
   ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 3000 -o " + blob.string()).status, 0);
-  const auto r = run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 65 --mesh " +
-                                            mesh.string() + " --preview " + png.string() +
-                                            " --report " + report.string() + " -q");
+  const auto r = run_tool("gim-remesh", blob.string() + " -o " + exr.string() +
+                                            " --size 65 --mesh " + mesh.string() + " --preview " +
+                                            png.string() + " --report " + report.string() + " -q");
   ASSERT_EQ(r.status, 0) << r.err;
   expect_watertight_image(exr, 65);
   EXPECT_TRUE(fs::exists(mesh));
   EXPECT_TRUE(fs::exists(png));
   const std::string json = slurp(report);
-  for (const char* key : {"\"partition\"", "\"symmetric_efficiency\"", "\"efficiency_square\"",
-                          "\"flipped_triangles\"", "\"psnr_db\"", "\"peak_memory_mb\"", "\"valid\": true"})
+  for (const char* key :
+       {"\"partition\"", "\"symmetric_efficiency\"", "\"efficiency_square\"",
+        "\"flipped_triangles\"", "\"psnr_db\"", "\"peak_memory_mb\"", "\"valid\": true"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   ASSERT_EQ(run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 33 --mesh " +
                                        drc.string() + " -q")
@@ -59,8 +60,9 @@ TEST(GimRemesh, EveryClosedGenusZeroSharedModel) {
                            "fandisk", "sphere", "cube", "bunny", "dragon"}) {
     SCOPED_TRACE(name);
     const fs::path exr = dir / (std::string(name) + ".exr");
-    const auto r = run_tool("gim-remesh", (ism::test::shared_models_dir() / (std::string(name) + ".obj")).string() +
-                                              " -o " + exr.string() + " --size 129 -q");
+    const auto r = run_tool(
+        "gim-remesh", (ism::test::shared_models_dir() / (std::string(name) + ".obj")).string() +
+                          " -o " + exr.string() + " --size 129 -q");
     ASSERT_EQ(r.status, 0) << r.err;
     expect_watertight_image(exr, 129);
   }
@@ -85,8 +87,8 @@ TEST(GimRemesh, UnsuitableSurfacesAreRefusedWithoutOutput) {
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
   }
-  const auto bad_size = run_tool("gim-remesh", (models / "sphere.obj").string() + " -o " +
-                                                   out.string() + " --size 100");
+  const auto bad_size = run_tool(
+      "gim-remesh", (models / "sphere.obj").string() + " -o " + out.string() + " --size 100");
   EXPECT_EQ(bad_size.status, 1);
   EXPECT_NE(bad_size.err.find("2^k+1"), std::string::npos);
   EXPECT_FALSE(fs::exists(out));

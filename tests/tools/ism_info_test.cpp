@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-
 namespace {
 
 namespace fs = std::filesystem;
@@ -13,9 +12,13 @@ namespace fs = std::filesystem;
 using Result = ism::test::ToolResult;
 using ism::test::slurp;
 
-fs::path scratch_dir() { return ism::test::scratch_dir("tools"); }
+fs::path scratch_dir() {
+  return ism::test::scratch_dir("tools");
+}
 
-Result run(const std::string& tool, const std::string& args) { return ism::test::run_tool(tool, args); }
+Result run(const std::string& tool, const std::string& args) {
+  return ism::test::run_tool(tool, args);
+}
 
 std::size_t lines(const std::string& s) {
   return std::count(s.begin(), s.end(), '\n');

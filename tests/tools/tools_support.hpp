@@ -35,8 +35,8 @@ inline ToolResult run_tool(const std::string& tool, const std::string& args) {
   const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
   const auto dir = scratch_dir("tools");
   const auto out = dir / (test + ".stdout"), err = dir / (test + ".stderr");
-  const std::string cmd = (binary_dir() / "bin" / tool).string() + " " + args + " >" + out.string() +
-                          " 2>" + err.string();
+  const std::string cmd = (binary_dir() / "bin" / tool).string() + " " + args + " >" +
+                          out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
 }

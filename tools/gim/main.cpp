@@ -2,8 +2,8 @@
 // surface (paper §6.3): a map from the octahedron, unfolded into the square,
 // to the surface, optimised for symmetric stretch, sampled on an n×n grid.
 #include "domain/domain.hpp"
-#include "io/features.hpp"
 #include "io/draco_io.hpp"
+#include "io/features.hpp"
 #include "io/image_io.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
@@ -97,7 +97,8 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   std::vector<PathNetwork> networks;
   try {
     if (o.features.empty()) {
-      networks = trace_octahedral_networks(surface, {.distinguish_poles = o.metric != "equilateral"});
+      networks =
+          trace_octahedral_networks(surface, {.distinguish_poles = o.metric != "equilateral"});
     } else {
       const auto entries = io::read_feature_file(o.features);
       const auto features = io::resolve_features(entries, surface, 0, o.features);
@@ -144,8 +145,9 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   const GeometryImage normal_image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
     const auto s = sampler.surface_point(q.face, q.bary);
     const Triangle& t = map.faces()[s->face];
-    return Vec3((s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
-                    .normalized());
+    return Vec3(
+        (s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
+            .normalized());
   });
 
   run.stage("write");
@@ -176,7 +178,8 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   mj["efficiency_domain_to_surface"] = m.forward_efficiency;
   mj["efficiency_surface_to_domain"] = m.backward_efficiency;
   mj["optimizations"] = stats.optimizations;
-  mj["fast_path_fraction"] = double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
+  mj["fast_path_fraction"] =
+      double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
   const double square_efficiency = image_efficiency(image, ImageDomain::square);
   Json& ij = r["image"];
   ij["efficiency_square"] = square_efficiency;
@@ -193,8 +196,8 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   run.note(o.output + ": " + std::to_string(o.size) + "x" + std::to_string(o.size) +
            " geometry image; map efficiency " + std::to_string(m.forward_efficiency) +
            " (symmetric " + std::to_string(m.symmetric_efficiency) + "), image efficiency " +
-           std::to_string(square_efficiency) +
-           ", PSNR " + std::to_string(distance.psnr_db) + " dB");
+           std::to_string(square_efficiency) + ", PSNR " + std::to_string(distance.psnr_db) +
+           " dB");
   run.finish();
   return 0;
 }
@@ -210,14 +213,16 @@ int main(int argc, char** argv) {
   app.add_option("--size", o.size, "Image size n = 2^k+1");
   app.add_option("--metric", o.metric, "Face metric of the octahedron")
       ->check(CLI::IsMember({"right-isosceles", "equilateral"}));
-  app.add_option("--features", o.features, "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
+  app.add_option("--features", o.features,
+                 "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
   app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
   app.add_option("--final-sweeps", o.final_sweeps,
                  "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
       ->check(CLI::Range(0, 1000));
   app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
   app.add_option("--mesh", o.mesh, "Remesh of the image (.obj, .ply, .off, .stl, .drc)");
-  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")->check(CLI::Range(8, 30));
+  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")
+      ->check(CLI::Range(8, 30));
   app.add_option("--preview", o.preview, "PNG preview: image and shaded normals side by side");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   tool::add_common_options(app, common);

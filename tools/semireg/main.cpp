@@ -73,18 +73,21 @@ std::string fixed(double x, int digits) {
 std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Options& o,
                                                     const TriangleMesh& surface) {
   const std::string no_faces =
-      o.base + ": the base has no faces; free base vertices (connectivity chosen by semireg) are "
-               "not supported yet, give a base mesh with faces";
+      o.base +
+      ": the base has no faces; free base vertices (connectivity chosen by semireg) are "
+      "not supported yet, give a base mesh with faces";
   try {
     // The reader refuses a file without faces: say what that means here.
     if (io::read_polygon_soup(o.base).faces.empty()) throw tool::Failure(no_faces);
   } catch (const io::FileError& e) {
     const std::string what = e.what(), tail = "the file has no faces";
-    if (what.size() >= tail.size() && what.compare(what.size() - tail.size(), tail.size(), tail) == 0)
+    if (what.size() >= tail.size() &&
+        what.compare(what.size() - tail.size(), tail.size(), tail) == 0)
       throw tool::Failure(no_faces);
     throw tool::Failure(what);
   }
-  TriangleMesh base = run.load_surface(o.base, {.tool = "semireg (as a base mesh)", .closed = true});
+  TriangleMesh base =
+      run.load_surface(o.base, {.tool = "semireg (as a base mesh)", .closed = true});
   run.stage("snap base");
   const int surface_genus = genus_of(surface), base_genus = genus_of(base);
   if (base_genus != surface_genus)
@@ -106,13 +109,13 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Option
     const double distance = std::sqrt(best);
     worst = std::max(worst, distance);
     if (distance > limit)
-      throw tool::Failure(o.base + ": base vertex " + std::to_string(i) + " is " + fixed(distance, 4) +
-                          " from the surface (limit " + fixed(limit, 4) +
+      throw tool::Failure(o.base + ": base vertex " + std::to_string(i) + " is " +
+                          fixed(distance, 4) + " from the surface (limit " + fixed(limit, 4) +
                           ", 5% of the surface's bounding-box diagonal)");
     if (owner[nearest] >= 0)
       throw tool::Failure(o.base + ": base vertices " + std::to_string(owner[nearest]) + " and " +
-                          std::to_string(i) + " both snap to surface vertex " + std::to_string(nearest) +
-                          "; the base is too fine for the surface there");
+                          std::to_string(i) + " both snap to surface vertex " +
+                          std::to_string(nearest) + "; the base is too fine for the surface there");
     owner[nearest] = int(i);
     features[i] = nearest;
     base.positions[i] = surface.positions[nearest];
@@ -144,7 +147,8 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     tool::Progress& progress = run.stage("base");
     ProgressiveMesh decimated;
     try {
-      decimated = simplify_to(surface, o.base_size, {.progress = [&](double f) { progress.update(f); }});
+      decimated =
+          simplify_to(surface, o.base_size, {.progress = [&](double f) { progress.update(f); }});
     } catch (const std::runtime_error& e) {
       throw tool::Failure(o.input + ": cannot decimate to a base mesh: " + e.what());
     }
@@ -199,18 +203,21 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
 
   run.stage("sample");
   const MapSampler sampler(map);
-  const TriangleMesh remesh = semiregular_mesh(base, o.levels, [&](int f, const Eigen::Vector3d& bary) {
-    const auto s = sampler.surface_point(f, bary);
-    if (!s) throw std::runtime_error("a sample fell outside the map");
-    return s->position;
-  });
+  const TriangleMesh remesh =
+      semiregular_mesh(base, o.levels, [&](int f, const Eigen::Vector3d& bary) {
+        const auto s = sampler.surface_point(f, bary);
+        if (!s) throw std::runtime_error("a sample fell outside the map");
+        return s->position;
+      });
   // The base actually used: its vertices where the map puts them.
   TriangleMesh used_base = base;
-  for (std::size_t v = 0; v < used_base.n_vertices(); ++v) used_base.positions[v] = remesh.positions[v];
+  for (std::size_t v = 0; v < used_base.n_vertices(); ++v)
+    used_base.positions[v] = remesh.positions[v];
 
   run.stage("write");
   write_output(run, o.output, [&](const auto& p) { write_any_mesh(remesh, p, o.draco_bits); });
-  write_output(run, o.write_base, [&](const auto& p) { write_any_mesh(used_base, p, o.draco_bits); });
+  write_output(run, o.write_base,
+               [&](const auto& p) { write_any_mesh(used_base, p, o.draco_bits); });
 
   run.stage("measure");
   const MapMeasures m = map.measures();
@@ -226,7 +233,8 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   mj["efficiency_domain_to_surface"] = m.forward_efficiency;
   mj["efficiency_surface_to_domain"] = m.backward_efficiency;
   mj["optimizations"] = stats.optimizations;
-  mj["fast_path_fraction"] = double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
+  mj["fast_path_fraction"] =
+      double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();
@@ -236,10 +244,10 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   dj["rms_input_to_remesh"] = distance.rms_a_to_b;
   dj["rms_remesh_to_input"] = distance.rms_b_to_a;
   dj["hausdorff"] = distance.hausdorff;
-  run.note(o.output + ": " + std::to_string(remesh.n_faces()) + " faces (" + std::to_string(base.n_faces()) +
-           " base faces, level " + std::to_string(o.levels) + "); map efficiency " +
-           fixed(m.forward_efficiency, 3) + " (symmetric " + fixed(m.symmetric_efficiency, 3) + "), PSNR " +
-           fixed(distance.psnr_db, 1) + " dB");
+  run.note(o.output + ": " + std::to_string(remesh.n_faces()) + " faces (" +
+           std::to_string(base.n_faces()) + " base faces, level " + std::to_string(o.levels) +
+           "); map efficiency " + fixed(m.forward_efficiency, 3) + " (symmetric " +
+           fixed(m.symmetric_efficiency, 3) + "), PSNR " + fixed(distance.psnr_db, 1) + " dB");
   run.finish();
   return 0;
 }
@@ -250,24 +258,30 @@ int main(int argc, char** argv) {
   CLI::App app{"semireg: semi-regular remesh of a closed surface over a coarse base mesh"};
   Options o;
   ism::tool::CommonOptions common;
-  app.add_option("mesh", o.input, "Closed surface of any genus (.obj, .ply, .off, .stl)")->required();
-  app.add_option("-o,--output", o.output, "Semi-regular remesh (.obj, .ply, .off, .stl, .drc)")->required();
-  auto* base = app.add_option("--base", o.base,
-                              "Base mesh (.obj, .ply, .off, .stl): vertices snap to the nearest surface "
-                              "vertices, its faces give the connectivity");
-  auto* size = app.add_option("--base-size", o.base_size, "Decimate the surface to a base of N vertices")
-                   ->check(CLI::Range(std::size_t(4), std::size_t(1) << 24));
+  app.add_option("mesh", o.input, "Closed surface of any genus (.obj, .ply, .off, .stl)")
+      ->required();
+  app.add_option("-o,--output", o.output, "Semi-regular remesh (.obj, .ply, .off, .stl, .drc)")
+      ->required();
+  auto* base =
+      app.add_option("--base", o.base,
+                     "Base mesh (.obj, .ply, .off, .stl): vertices snap to the nearest surface "
+                     "vertices, its faces give the connectivity");
+  auto* size =
+      app.add_option("--base-size", o.base_size, "Decimate the surface to a base of N vertices")
+          ->check(CLI::Range(std::size_t(4), std::size_t(1) << 24));
   base->excludes(size);
   size->excludes(base);
   app.add_option("--levels", o.levels, "Subdivision levels of each base face (faces x 4^levels)")
       ->check(CLI::Range(0, 8));
   app.add_option("--write-base", o.write_base, "Write the base used, its vertices on the surface");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
-  app.add_flag("--hold-features", o.hold_features, "Keep the base vertices fixed during optimisation");
+  app.add_flag("--hold-features", o.hold_features,
+               "Keep the base vertices fixed during optimisation");
   app.add_option("--final-sweeps", o.final_sweeps,
                  "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
       ->check(CLI::Range(0, 1000));
-  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")->check(CLI::Range(8, 30));
+  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")
+      ->check(CLI::Range(8, 30));
   ism::tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
   return ism::tool::run_main("semireg", [&] { return run_semireg(o, common); });

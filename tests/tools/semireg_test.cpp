@@ -1,0 +1,200 @@
+// semireg as a user runs it: semi-regular remeshes with exactly F_base·4^k
+// faces, closed, of the surface's genus, with exact subdivision connectivity
+// (undone level by level from the written file alone), and clean refusals of
+// unsuitable bases.
+#include "io/io.hpp"
+#include "mesh/mesh_check.hpp"
+#include "sample/semiregular.hpp"
+#include "test_support.hpp"
+#include "tools_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ism::test::run_tool;
+using ism::test::scratch_dir;
+using ism::test::slurp;
+
+ism::TriangleMesh read_triangles(const fs::path& path) {
+  const ism::PolygonSoup soup = ism::io::read_polygon_soup(path);
+  ism::TriangleMesh mesh{soup.positions, {}};
+  for (const auto& f : soup.faces) {
+    EXPECT_EQ(f.size(), 3u);
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+  }
+  return mesh;
+}
+
+ism::MeshCheck check_of(const fs::path& path) {
+  return ism::prepare_mesh(ism::io::read_polygon_soup(path)).check;
+}
+
+std::vector<ism::Triangle> canonical_faces(const ism::TriangleMesh& mesh) {
+  std::vector<ism::Triangle> faces;
+  for (ism::Triangle t : mesh.triangles) {
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    faces.push_back(t);
+  }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
+// The remesh is a closed valid surface of the given genus with
+// F_base·4^levels faces, nothing to repair.
+void expect_semiregular(const fs::path& remesh, const fs::path& base, int levels, int genus) {
+  const ism::MeshCheck b = check_of(base), c = check_of(remesh);
+  EXPECT_TRUE(c.valid_surface());
+  EXPECT_TRUE(c.closed());
+  EXPECT_EQ(c.genus, genus);
+  EXPECT_EQ(b.genus, genus);
+  EXPECT_EQ(c.faces, b.faces << (2 * levels));
+  EXPECT_EQ(c.welded_vertices, 0u);
+  EXPECT_EQ(c.reoriented_faces, 0u);
+  EXPECT_FALSE(c.flipped_inward);
+}
+
+TEST(Semireg, GeneratedBlobHasExactSubdivisionConnectivity) {
+  const fs::path dir = scratch_dir("semireg");
+  const fs::path blob = dir / "blob.obj", out = dir / "blob_sr.obj", base = dir / "blob_base.obj",
+                 report = dir / "blob.json", patches = dir / "blob_patches.ply",
+                 drc = dir / "blob_sr.drc", again = dir / "blob_again.ply";
+  ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 3000 -o " + blob.string()).status, 0);
+  fs::remove(out);
+  const auto r =
+      run_tool("semireg", blob.string() + " -o " + out.string() + " --base-size 30 --levels 3" +
+                              " --write-base " + base.string() + " --dump-patches " +
+                              patches.string() + " --report " + report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_TRUE(fs::exists(patches));
+  expect_semiregular(out, base, 3, 0);
+
+  const ism::TriangleMesh fine = read_triangles(out), coarse_base = read_triangles(base);
+  ASSERT_EQ(coarse_base.n_vertices(), 30u);
+  // The base vertices come first, at the positions of the written base.
+  for (std::size_t v = 0; v < coarse_base.n_vertices(); ++v)
+    EXPECT_LT((fine.positions[v] - coarse_base.positions[v]).norm(), 1e-5) << v;
+  // Undo the three levels from the connectivity alone, down to the base.
+  ism::TriangleMesh mesh = fine;
+  for (int level = 3; level > 0; --level) {
+    ism::TriangleMesh coarser;
+    ASSERT_TRUE(ism::unsubdivide(mesh, coarse_base.n_vertices(), coarser)) << "level " << level;
+    mesh = std::move(coarser);
+  }
+  EXPECT_EQ(mesh.n_vertices(), coarse_base.n_vertices());
+  EXPECT_EQ(canonical_faces(mesh), canonical_faces(coarse_base));
+
+  const std::string json = slurp(report);
+  for (const char* key : {"\"partition\"", "\"symmetric_efficiency\"",
+                          "\"efficiency_domain_to_surface\"", "\"psnr_db\"", "\"peak_memory_mb\"",
+                          "\"valid\": true", "\"remesh\"", "\"base\"", "\"map\"", "\"sample\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+
+  // The written base, given back as --base, reproduces the connectivity; Draco output works.
+  const auto r2 = run_tool("semireg", blob.string() + " -o " + again.string() + " --base " +
+                                          base.string() + " --levels 2 -q");
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  expect_semiregular(again, base, 2, 0);
+  const auto r3 =
+      run_tool("semireg", blob.string() + " -o " + drc.string() + " --base-size 30 --levels 1 -q");
+  ASSERT_EQ(r3.status, 0) << r3.err;
+  EXPECT_GT(fs::file_size(drc), 100u);
+}
+
+TEST(Semireg, SharedModelsOfEveryGenus) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path dir = scratch_dir("semireg");
+  const struct {
+    const char* name;
+    int base_size, genus;
+  } cases[] = {{"bunny_small", 100, 0}, {"torus", 50, 1}, {"double_torus", 50, 2}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const fs::path out = dir / (std::string(c.name) + "_sr.ply"),
+                   base = dir / (std::string(c.name) + "_base.obj");
+    const auto r = run_tool(
+        "semireg", (ism::test::shared_models_dir() / (std::string(c.name) + ".obj")).string() +
+                       " -o " + out.string() + " --base-size " + std::to_string(c.base_size) +
+                       " --levels 3 --write-base " + base.string() + " -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    expect_semiregular(out, base, 3, c.genus);
+  }
+}
+
+void expect_refused(const std::string& args, const fs::path& out, const std::string& file,
+                    const std::string& message) {
+  SCOPED_TRACE(args);
+  fs::remove(out);
+  const auto r = run_tool("semireg", args + " -o " + out.string() + " -q");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind(file + ": ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Semireg, UnsuitableBasesAreRefusedWithoutOutput) {
+  const fs::path dir = scratch_dir("semireg");
+  const fs::path sphere = dir / "sphere.obj", torus_base = dir / "torus_base.obj",
+                 base = dir / "sphere_base.obj", far = dir / "far_base.obj",
+                 no_faces = dir / "no_faces.obj", out = dir / "refused.obj";
+  ASSERT_EQ(run_tool("ism-genmesh", "sphere --faces 2000 -o " + sphere.string()).status, 0);
+  ASSERT_EQ(
+      run_tool("ism-genmesh", "torus --faces 200 --R 0.7 --r 0.3 -o " + torus_base.string()).status,
+      0);
+  expect_refused(sphere.string() + " --base " + torus_base.string(), out, torus_base.string(),
+                 "genus 1 base, the surface " + sphere.string() + " has genus 0");
+
+  // A good base, then the same base moved by a tenth of the diagonal.
+  ASSERT_EQ(
+      run_tool("semireg", sphere.string() + " -o " + out.string() +
+                              " --base-size 20 --levels 0 --write-base " + base.string() + " -q")
+          .status,
+      0);
+  ism::TriangleMesh moved = read_triangles(base);
+  const double diagonal = ism::bounding_box_diagonal(read_triangles(sphere));
+  for (auto& p : moved.positions) p.x() += 0.1 * diagonal;
+  ism::io::write_mesh(moved, far);
+  expect_refused(sphere.string() + " --base " + far.string(), out, far.string(),
+                 "from the surface (limit ");
+
+  // Vertices only: free connectivity is not there yet.
+  {
+    std::ofstream f(no_faces);
+    for (const auto& p : moved.positions)
+      f << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  expect_refused(sphere.string() + " --base " + no_faces.string(), out, no_faces.string(),
+                 "not supported yet");
+  expect_refused(sphere.string() + " --base " + (dir / "missing.obj").string(), out,
+                 (dir / "missing.obj").string(), "");
+
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path pinched = ism::test::shared_models_dir() / "bad" / "cow_pinched.obj";
+  expect_refused(sphere.string() + " --base " + pinched.string(), out, pinched.string(),
+                 "non-manifold vertex");
+}
+
+TEST(Semireg, BadOptionsAreRefused) {
+  const fs::path dir = scratch_dir("semireg");
+  const fs::path sphere = dir / "options_sphere.obj", out = dir / "options.obj";
+  ASSERT_EQ(run_tool("ism-genmesh", "sphere --faces 500 -o " + sphere.string()).status, 0);
+  fs::remove(out);
+  EXPECT_NE(run_tool("semireg", sphere.string() + " -o " + out.string() + " -q").status, 0);
+  EXPECT_NE(
+      run_tool("semireg", sphere.string() + " -o " + out.string() + " --base-size 20 --levels 9 -q")
+          .status,
+      0);
+  EXPECT_NE(run_tool("semireg", sphere.string() + " -o " + out.string() +
+                                    " --base-size 20 --base " + sphere.string() + " -q")
+                .status,
+            0);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
