@@ -150,6 +150,9 @@ class SurfaceMap {
     bool single_face = true;
   };
   bool build_ring(int v, Ring& ring, int start_vertex = -1) const;
+  /// The split of a vertex on a cone whose new vertex takes at least half
+  /// of the cone's angle: the new vertex takes the cone, the old one moves.
+  int split_onto_cone(const Ring& fan, std::size_t last, const std::string& where);
   /// Turns counter-clockwise around M¹ vertex x (at corner of `face` in
   /// `layout`) until the face's wedge at x holds the direction to p.
   bool wedge_containing(int x, int& face, std::array<Vec2, 3>& layout, const Vec2& p) const;

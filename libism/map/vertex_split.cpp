@@ -5,8 +5,6 @@
 #include "map/surface_map.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace ism {
@@ -27,6 +25,18 @@ int SurfaceMap::split_next() {
   for (std::size_t i = 1; i < m; ++i)
     if (ring.vertices[i] == s.vr) last = i;
   if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
+
+  // A cone keeps the larger share of its angle: when vs takes at least half
+  // of it, vs goes onto the cone and vt moves off (with more than 2π a cone
+  // could otherwise leave vs a one-ring that cannot be flat).
+  if (x >= 0 && domain_.is_cone(x)) {
+    double sector = 0.0;
+    for (std::size_t i = 0; i < last; ++i) {
+      const Vec2 a = ring.positions[i], b = ring.positions[i + 1];
+      sector += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    }
+    if (sector >= 0.5 * domain_.total_angle(x)) return split_onto_cone(ring, last, where);
+  }
 
   // vs goes to the middle of the kernel of its new one-ring (vl .. vr, vt):
   // exactly the places where all its faces, and the two new ones, are
@@ -100,6 +110,87 @@ int SurfaceMap::split_next() {
   surface_area_ += area_of(a) + area_of(b);
   ++active_vertices_;
   ++next_split_;
+  return s.vs;
+}
+
+int SurfaceMap::split_onto_cone(const Ring& fan, std::size_t last, const std::string& where) {
+  const VertexSplit& s = pm_.splits[next_split_];
+  const int x = at_domain_vertex_[s.vt];
+  // vt's ring from vr: vr .. vl are the faces vt keeps; with vs on the cone
+  // (the origin of the fan chart) they form vt's new one-ring.
+  Ring ring;
+  if (!build_ring(s.vt, ring, s.vr)) throw std::runtime_error(where + ": invalid ring");
+  std::size_t j = ring.vertices.size();
+  for (std::size_t i = 1; i < ring.vertices.size(); ++i)
+    if (ring.vertices[i] == s.vl) j = i;
+  if (j == ring.vertices.size())
+    throw std::runtime_error(where + ": vl is not a neighbour after vr");
+  std::vector<Vec2> polygon(ring.positions.begin(), ring.positions.begin() + j + 1);
+  polygon.push_back(Vec2::Zero());
+  const std::optional<Vec2> kernel = kernel_centroid(polygon);
+  if (!kernel) throw std::runtime_error(where + ": no valid position for the split vertex");
+  Vec2 p = *kernel;
+  int face = ring.centre_face;
+  std::array<Vec2, 3> layout = ring.centre_layout;
+  EdgeWalk scratch;
+  WalkEnd at;
+  if (!wedge_containing(x, face, layout, p) || !trace(face, layout, Vec2::Zero(), p, scratch, at))
+    throw std::runtime_error(where + ": cannot locate the split vertex");
+  p = interior_point(at.layout, p);
+  std::vector<EdgeWalk> forward(j + 1);
+  for (std::size_t i = 0; i <= j; ++i) {
+    WalkEnd e;
+    if (!trace(at.face, at.layout, p, ring.positions[i], forward[i], e))
+      throw std::runtime_error(where + ": cannot trace a new edge");
+  }
+  EdgeWalk to_cone;
+  {
+    WalkEnd e;
+    if (!trace(at.face, at.layout, p, Vec2::Zero(), to_cone, e))
+      throw std::runtime_error(where + ": cannot trace the new edge to the cone");
+  }
+  // Segments that do not move: cone -> vr and vl -> cone.
+  const EdgeWalk cone_to_vr = walks_[ring.faces[0]][ring.corner[0]];
+  const EdgeWalk vl_to_cone = walks_[ring.faces[j - 1]][(ring.corner[j - 1] + 2) % 3];
+
+  auto area_of = [&](int f) {
+    const Triangle& t = faces_[f];
+    return 0.5 *
+           (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
+  };
+  // The fan vl..vr goes to vs, which sits where vt sat: its walks stay.
+  for (std::size_t i = 0; i < last; ++i) {
+    const int f = fan.faces[i], c = fan.corner[i];
+    surface_area_ -= area_of(f);
+    faces_[f][c] = s.vs;
+    surface_area_ += area_of(f);
+    std::erase(vertex_faces_[s.vt], f);
+    vertex_faces_[s.vs].push_back(f);
+  }
+  // vt moves to p: new walks in the faces it keeps.
+  for (std::size_t i = 0; i < j; ++i) {
+    const int f = ring.faces[i], c = ring.corner[i];
+    walks_[f][c] = forward[i];
+    walks_[f][(c + 2) % 3] = reversed(forward[i + 1]);
+  }
+  at_domain_vertex_[s.vs] = x;
+  location_[s.vs] = location_[s.vt];
+  pinned_[s.vs] = 1;
+  pinned_[s.vt] = 0;
+  set_location(s.vt, at.face, at.layout, p);
+  const int a = int(faces_.size());
+  add_face({s.vs, s.vt, s.vl});
+  walks_[a] = {reversed(to_cone), forward[j], vl_to_cone};
+  const int b = int(faces_.size());
+  add_face({s.vt, s.vs, s.vr});
+  walks_[b] = {to_cone, cone_to_vr, reversed(forward[0])};
+  surface_area_ += area_of(a) + area_of(b);
+  ++active_vertices_;
+  ++next_split_;
+  std::vector<int> touched = vertex_faces_[s.vs];
+  touched.insert(touched.end(), vertex_faces_[s.vt].begin(), vertex_faces_[s.vt].end());
+  if (!faces_are_valid(touched))
+    throw std::runtime_error(where + ": the cone could not move to the new vertex");
   return s.vs;
 }
 

@@ -153,3 +153,35 @@ TEST(SurfaceMap, ValidThroughoutOnTheTorus) {
 
 }  // namespace
 }  // namespace ism
+
+namespace ism {
+namespace {
+
+// Bases with vertices of valence 7 and more put cones of more than 2π on the
+// surface; a split that hands most of such a cone to the new vertex must
+// move the cone with it (these two used to fail with "invalid ring").
+TEST(SurfaceMap, ConesWiderThanAFullTurnFollowTheirSplit) {
+  ISM_REQUIRE_SHARED_MODELS();
+  for (const auto& [file, size] :
+       {std::pair<const char*, std::size_t>{"eight_loop2.obj", 50}, {"double_torus.obj", 100}}) {
+    SCOPED_TRACE(file);
+    const TriangleMesh s =
+        prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / file)).mesh;
+    const ProgressiveMesh decimated = simplify_to(s, size);
+    const TriangleMesh base = base_mesh(decimated);
+    const DomainGeometry geometry(base, equilateral_lengths(base));
+    bool wide_cone = false;
+    for (std::size_t x = 0; x < base.n_vertices(); ++x)
+      wide_cone |= geometry.total_angle(int(x)) > 2 * M_PI + 1e-9;
+    EXPECT_TRUE(wide_cone);
+    const PathNetwork network = trace_path_network(s, base, decimated.base_vertices);
+    const ProgressiveMesh pm = simplify_constrained(network, base);
+    SurfaceMap map(geometry, pm);
+    refine(map);
+    EXPECT_EQ(map.validate(), std::nullopt);
+    EXPECT_EQ(map.n_vertices(), network.surface.n_vertices());
+  }
+}
+
+}  // namespace
+}  // namespace ism
