@@ -98,6 +98,18 @@ void Run::finish() {
   out.commit();
 }
 
+void write_output(const Run& run, const std::string& path,
+                  const std::function<void(const std::filesystem::path&)>& write) {
+  if (path.empty()) return;
+  OutputFile out(path, run.inputs());
+  try {
+    write(out.temp_path());
+  } catch (const io::FileError&) {
+    throw Failure(path + ": cannot write the file");
+  }
+  out.commit();
+}
+
 int run_main(const std::string& tool_name, const std::function<int()>& body) {
   try {
     return body();

@@ -66,6 +66,12 @@ class Run {
   Progress progress_;
 };
 
+/// Writes one output through a temporary file in the target's folder and
+/// renames it when complete; nothing when `path` is empty. A writer's
+/// io::FileError becomes a one-line Failure naming the file.
+void write_output(const Run& run, const std::string& path,
+                  const std::function<void(const std::filesystem::path&)>& write);
+
 /// Runs a tool's body: a Failure prints its message as one line and exits 1,
 /// any other exception prints "tool: message" and exits 1 as well.
 int run_main(const std::string& tool_name, const std::function<int()>& body);

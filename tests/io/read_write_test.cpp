@@ -1,5 +1,6 @@
 // Every supported format round-trips through write_mesh/read_polygon_soup, and
 // unreadable input fails with one message naming the file.
+#include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
 #include "test_support.hpp"
@@ -14,11 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TriangleMesh octahedron() {
-  TriangleMesh m;
-  m.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
-                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-  return m;
+  return domain::octahedron();
 }
 
 fs::path scratch(const std::string& name) {

@@ -68,18 +68,6 @@ std::vector<std::array<unsigned char, 3>> preview_pixels(const GeometryImage& im
   return out;
 }
 
-template <typename Write>
-void write_output(tool::Run& run, const std::string& path, Write&& write) {
-  if (path.empty()) return;
-  tool::OutputFile out(path, run.inputs());
-  try {
-    write(out.temp_path());
-  } catch (const io::FileError& e) {
-    throw tool::Failure(path + ": cannot write the file");
-  }
-  out.commit();
-}
-
 int run_gim(const Options& o, const tool::CommonOptions& common) {
   tool::Run run("gim-remesh", common);
   run.add_input(o.input);
@@ -123,7 +111,9 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
   if (!o.dump_patches.empty())
-    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(chosen->network, p); });
+    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
+      write_patch_dump(chosen->network, p);
+    });
   RefineOptions refine_options;
   refine_options.max_final_sweeps = o.final_sweeps;
   refine_options.progress = [&](double f) { progress.update(f); };
@@ -151,16 +141,19 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   });
 
   run.stage("write");
-  write_output(run, o.output, [&](const auto& p) { write_geometry_image(image, p); });
-  write_output(run, o.normals, [&](const auto& p) { write_geometry_image(normal_image, p); });
+  tool::write_output(run, o.output,
+                     [&](const std::filesystem::path& p) { write_geometry_image(image, p); });
+  tool::write_output(run, o.normals, [&](const std::filesystem::path& p) {
+    write_geometry_image(normal_image, p);
+  });
   const TriangleMesh remesh = image_to_mesh(image);
-  write_output(run, o.mesh, [&](const auto& p) {
+  tool::write_output(run, o.mesh, [&](const std::filesystem::path& p) {
     if (p.extension() == ".drc")
       io::write_draco(remesh, p, o.draco_bits);
     else
       io::write_mesh(remesh, p);
   });
-  write_output(run, o.preview, [&](const auto& p) {
+  tool::write_output(run, o.preview, [&](const std::filesystem::path& p) {
     io::write_png_preview(p, 2 * o.size, o.size, preview_pixels(image, normal_image.pixels));
   });
 

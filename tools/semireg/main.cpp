@@ -34,18 +34,6 @@ struct Options {
   int final_sweeps = 8;
 };
 
-template <typename Write>
-void write_output(tool::Run& run, const std::string& path, Write&& write) {
-  if (path.empty()) return;
-  tool::OutputFile out(path, run.inputs());
-  try {
-    write(out.temp_path());
-  } catch (const io::FileError& e) {
-    throw tool::Failure(path + ": cannot write the file");
-  }
-  out.commit();
-}
-
 void write_any_mesh(const TriangleMesh& mesh, const std::filesystem::path& p, int draco_bits) {
   if (p.extension() == ".drc")
     io::write_draco(mesh, p, draco_bits);
@@ -176,7 +164,8 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     throw tool::Failure(o.input + ": " + e.what());
   }
   if (!o.dump_patches.empty())
-    write_output(run, o.dump_patches, [&](const auto& p) { write_patch_dump(network, p); });
+    tool::write_output(run, o.dump_patches,
+                       [&](const std::filesystem::path& p) { write_patch_dump(network, p); });
 
   tool::Progress& pm_progress = run.stage("progressive mesh");
   const ProgressiveMesh pm =
@@ -215,9 +204,12 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     used_base.positions[v] = remesh.positions[v];
 
   run.stage("write");
-  write_output(run, o.output, [&](const auto& p) { write_any_mesh(remesh, p, o.draco_bits); });
-  write_output(run, o.write_base,
-               [&](const auto& p) { write_any_mesh(used_base, p, o.draco_bits); });
+  tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
+    write_any_mesh(remesh, p, o.draco_bits);
+  });
+  tool::write_output(run, o.write_base, [&](const std::filesystem::path& p) {
+    write_any_mesh(used_base, p, o.draco_bits);
+  });
 
   run.stage("measure");
   const MapMeasures m = map.measures();
