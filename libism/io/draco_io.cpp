@@ -107,4 +107,12 @@ TriangleMesh read_draco(const std::filesystem::path& path) {
   return mesh;
 }
 
+void write_mesh_file(const TriangleMesh& mesh, const std::filesystem::path& path,
+                     int quantization_bits) {
+  if (path.extension() == ".drc")
+    write_draco(mesh, path, quantization_bits);
+  else
+    write_mesh(mesh, path);
+}
+
 }  // namespace ism::io

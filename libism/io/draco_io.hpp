@@ -37,4 +37,9 @@ void write_draco(const TriangleMesh& mesh, const std::filesystem::path& path,
 /// without positions.
 TriangleMesh read_draco(const std::filesystem::path& path);
 
+/// Writes .drc through write_draco() (with `quantization_bits`), any other
+/// extension through write_mesh().
+void write_mesh_file(const TriangleMesh& mesh, const std::filesystem::path& path,
+                     int quantization_bits = 14);
+
 }  // namespace ism::io

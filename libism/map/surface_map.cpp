@@ -67,12 +67,21 @@ SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, 
     for (int k = 0; k < 3; ++k) walks_[f][k].start_face = it->second;
   }
   active_vertices_ = pm.base_vertices.size();
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    const Triangle& t = faces_[f];
-    surface_area_ +=
-        0.5 *
-        (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
-  }
+}
+
+double SurfaceMap::surface_face_area(int f) const {
+  const Triangle& t = faces_[f];
+  return 0.5 *
+         (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
+}
+
+void SurfaceMap::move_corner(int f, int corner, int to) {
+  const int from = faces_[f][corner];
+  surface_area_ -= surface_face_area(f);
+  faces_[f][corner] = to;
+  surface_area_ += surface_face_area(f);
+  std::erase(vertex_faces_[from], f);
+  vertex_faces_[to].push_back(f);
 }
 
 void SurfaceMap::add_face(const Triangle& t) {
@@ -80,6 +89,7 @@ void SurfaceMap::add_face(const Triangle& t) {
   faces_.push_back(t);
   walks_.push_back({});
   for (int v : t) vertex_faces_[v].push_back(f);
+  surface_area_ += surface_face_area(f);
 }
 
 int SurfaceMap::corner_of(int f, int v) const {

@@ -182,7 +182,13 @@ class SurfaceMap {
   /// p moved strictly inside the face laid out as `layout` (see set_location).
   static Vec2 interior_point(const std::array<Vec2, 3>& layout, const Vec2& p);
 
+  /// Appends a face (and its area to the surface's total).
   void add_face(const Triangle& t);
+  /// 3D area of face f of M².
+  double surface_face_area(int f) const;
+  /// Replaces the vertex at `corner` of face f by `to`, keeping the vertex
+  /// fans and the total area up to date.
+  void move_corner(int f, int corner, int to);
   int corner_of(int f, int v) const;
   int face_after(int v, int x) const;
   EdgeWalk& walk(int f, int corner) { return walks_[f][corner]; }

@@ -84,18 +84,9 @@ int SurfaceMap::split_next() {
   const EdgeWalk vr_to_vt = walks_[ring.faces[last - 1]][(ring.corner[last - 1] + 2) % 3];
 
   // Topology: the fan vl..vr moves from vt to vs.
-  auto area_of = [&](int f) {
-    const Triangle& t = faces_[f];
-    return 0.5 *
-           (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
-  };
   for (std::size_t i = 0; i < last; ++i) {
     const int f = ring.faces[i], c = ring.corner[i];
-    surface_area_ -= area_of(f);
-    faces_[f][c] = s.vs;
-    surface_area_ += area_of(f);
-    std::erase(vertex_faces_[s.vt], f);
-    vertex_faces_[s.vs].push_back(f);
+    move_corner(f, c, s.vs);
     walks_[f][c] = forward[i];
     walks_[f][(c + 2) % 3] = reversed(forward[i + 1]);
   }
@@ -107,7 +98,6 @@ int SurfaceMap::split_next() {
   const int b = int(faces_.size());
   add_face({s.vt, s.vs, s.vr});
   walks_[b] = {reversed(to_vt), forward[last], vr_to_vt};
-  surface_area_ += area_of(a) + area_of(b);
   ++active_vertices_;
   ++next_split_;
   return s.vs;
@@ -153,19 +143,10 @@ int SurfaceMap::split_onto_cone(const Ring& fan, std::size_t last, const std::st
   const EdgeWalk cone_to_vr = walks_[ring.faces[0]][ring.corner[0]];
   const EdgeWalk vl_to_cone = walks_[ring.faces[j - 1]][(ring.corner[j - 1] + 2) % 3];
 
-  auto area_of = [&](int f) {
-    const Triangle& t = faces_[f];
-    return 0.5 *
-           (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm();
-  };
   // The fan vl..vr goes to vs, which sits where vt sat: its walks stay.
   for (std::size_t i = 0; i < last; ++i) {
     const int f = fan.faces[i], c = fan.corner[i];
-    surface_area_ -= area_of(f);
-    faces_[f][c] = s.vs;
-    surface_area_ += area_of(f);
-    std::erase(vertex_faces_[s.vt], f);
-    vertex_faces_[s.vs].push_back(f);
+    move_corner(f, c, s.vs);
   }
   // vt moves to p: new walks in the faces it keeps.
   for (std::size_t i = 0; i < j; ++i) {
@@ -184,7 +165,6 @@ int SurfaceMap::split_onto_cone(const Ring& fan, std::size_t last, const std::st
   const int b = int(faces_.size());
   add_face({s.vt, s.vs, s.vr});
   walks_[b] = {to_cone, cone_to_vr, reversed(forward[0])};
-  surface_area_ += area_of(a) + area_of(b);
   ++active_vertices_;
   ++next_split_;
   std::vector<int> touched = vertex_faces_[s.vs];

@@ -1,8 +1,11 @@
 #pragma once
 // Reports: the JSON value and the sections every tool shares.
+#include "map/surface_map.hpp"
 #include "mesh/mesh_check.hpp"
+#include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
+#include "refine/refine.hpp"
 #include "report/json.hpp"
 
 namespace ism {
@@ -14,5 +17,13 @@ Json to_json(const MeshCheck& check);
 /// and Euler characteristic of each), total path length, base mesh V/E/F.
 Json partition_report(const PathNetwork& network, const TriangleMesh& domain,
                       const ProgressiveMesh& pm);
+
+/// The "map" section: validity, size, symmetric and one-way efficiencies (m,
+/// from map.measures()), optimisations and the fast-path fraction. The map must have
+/// passed validate().
+Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& stats);
+
+/// The "distance" section: PSNR, rms both ways and pooled, Hausdorff.
+Json distance_report(const SurfaceDistance& distance);
 
 }  // namespace ism

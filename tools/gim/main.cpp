@@ -148,10 +148,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   });
   const TriangleMesh remesh = image_to_mesh(image);
   tool::write_output(run, o.mesh, [&](const std::filesystem::path& p) {
-    if (p.extension() == ".drc")
-      io::write_draco(remesh, p, o.draco_bits);
-    else
-      io::write_mesh(remesh, p);
+    io::write_mesh_file(remesh, p, o.draco_bits);
   });
   tool::write_output(run, o.preview, [&](const std::filesystem::path& p) {
     io::write_png_preview(p, 2 * o.size, o.size, preview_pixels(image, normal_image.pixels));
@@ -164,15 +161,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   r["size"] = o.size;
   r["metric"] = o.metric;
   r["features_released"] = !o.hold_features;
-  Json& mj = r["map"];
-  mj["valid"] = true;
-  mj["faces"] = map.n_faces();
-  mj["symmetric_efficiency"] = m.symmetric_efficiency;
-  mj["efficiency_domain_to_surface"] = m.forward_efficiency;
-  mj["efficiency_surface_to_domain"] = m.backward_efficiency;
-  mj["optimizations"] = stats.optimizations;
-  mj["fast_path_fraction"] =
-      double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
+  r["map"] = map_report(map, m, stats);
   const double square_efficiency = image_efficiency(image, ImageDomain::square);
   Json& ij = r["image"];
   ij["efficiency_square"] = square_efficiency;
@@ -180,12 +169,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   ij["flipped_triangles"] = flipped_triangles(image);
   ij["remesh_vertices"] = remesh.n_vertices();
   ij["remesh_faces"] = remesh.n_faces();
-  Json& dj = r["distance"];
-  dj["psnr_db"] = distance.psnr_db;
-  dj["rms"] = distance.rms;
-  dj["rms_input_to_remesh"] = distance.rms_a_to_b;
-  dj["rms_remesh_to_input"] = distance.rms_b_to_a;
-  dj["hausdorff"] = distance.hausdorff;
+  r["distance"] = distance_report(distance);
   run.note(o.output + ": " + std::to_string(o.size) + "x" + std::to_string(o.size) +
            " geometry image; map efficiency " + std::to_string(m.forward_efficiency) +
            " (symmetric " + std::to_string(m.symmetric_efficiency) + "), image efficiency " +

@@ -34,13 +34,6 @@ struct Options {
   int final_sweeps = 8;
 };
 
-void write_any_mesh(const TriangleMesh& mesh, const std::filesystem::path& p, int draco_bits) {
-  if (p.extension() == ".drc")
-    io::write_draco(mesh, p, draco_bits);
-  else
-    io::write_mesh(mesh, p);
-}
-
 // Genus of a closed connected manifold: V - E + F = 2 - 2g.
 int genus_of(const TriangleMesh& mesh) {
   std::set<std::pair<int, int>> edges;
@@ -205,10 +198,10 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
 
   run.stage("write");
   tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
-    write_any_mesh(remesh, p, o.draco_bits);
+    io::write_mesh_file(remesh, p, o.draco_bits);
   });
   tool::write_output(run, o.write_base, [&](const std::filesystem::path& p) {
-    write_any_mesh(used_base, p, o.draco_bits);
+    io::write_mesh_file(used_base, p, o.draco_bits);
   });
 
   run.stage("measure");
@@ -218,24 +211,11 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   r["levels"] = o.levels;
   r["metric"] = "equilateral";
   r["features_released"] = !o.hold_features;
-  Json& mj = r["map"];
-  mj["valid"] = true;
-  mj["faces"] = map.n_faces();
-  mj["symmetric_efficiency"] = m.symmetric_efficiency;
-  mj["efficiency_domain_to_surface"] = m.forward_efficiency;
-  mj["efficiency_surface_to_domain"] = m.backward_efficiency;
-  mj["optimizations"] = stats.optimizations;
-  mj["fast_path_fraction"] =
-      double(stats.single_face_rings) / std::max<std::size_t>(1, stats.optimizations);
+  r["map"] = map_report(map, m, stats);
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();
-  Json& dj = r["distance"];
-  dj["psnr_db"] = distance.psnr_db;
-  dj["rms"] = distance.rms;
-  dj["rms_input_to_remesh"] = distance.rms_a_to_b;
-  dj["rms_remesh_to_input"] = distance.rms_b_to_a;
-  dj["hausdorff"] = distance.hausdorff;
+  r["distance"] = distance_report(distance);
   run.note(o.output + ": " + std::to_string(remesh.n_faces()) + " faces (" +
            std::to_string(base.n_faces()) + " base faces, level " + std::to_string(o.levels) +
            "); map efficiency " + fixed(m.forward_efficiency, 3) + " (symmetric " +

@@ -1,0 +1,30 @@
+#include "report/report.hpp"
+
+#include <algorithm>
+
+namespace ism {
+
+Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& stats) {
+  Json j = Json::object();
+  j["valid"] = true;
+  j["faces"] = map.n_faces();
+  j["symmetric_efficiency"] = m.symmetric_efficiency;
+  j["efficiency_domain_to_surface"] = m.forward_efficiency;
+  j["efficiency_surface_to_domain"] = m.backward_efficiency;
+  j["optimizations"] = stats.optimizations;
+  j["fast_path_fraction"] =
+      double(stats.single_face_rings) / double(std::max<std::size_t>(1, stats.optimizations));
+  return j;
+}
+
+Json distance_report(const SurfaceDistance& distance) {
+  Json j = Json::object();
+  j["psnr_db"] = distance.psnr_db;
+  j["rms"] = distance.rms;
+  j["rms_input_to_remesh"] = distance.rms_a_to_b;
+  j["rms_remesh_to_input"] = distance.rms_b_to_a;
+  j["hausdorff"] = distance.hausdorff;
+  return j;
+}
+
+}  // namespace ism
