@@ -3,6 +3,7 @@
 // ascii/binary, OFF, STL) into a raw polygon soup, so that broken files reach
 // the checks intact instead of being silently patched by a mesh kernel.
 #include "mesh/polygon_soup.hpp"
+#include "mesh/quad_mesh.hpp"
 #include "mesh/triangle_mesh.hpp"
 
 #include <array>
@@ -27,6 +28,11 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 /// extension. Throws FileError. Callers that must not leave partial files
 /// write to a temporary name first (see tool/output_file.hpp).
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
+
+/// Writes a quad mesh as OBJ ("f a b c d"), PLY (binary) or OFF, chosen by
+/// the extension, vertex and face indices as in the mesh. STL and Draco store
+/// triangles only: triangulate() first. Throws FileError.
+void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path);
 
 /// 8-bit RGB colour.
 using Rgb = std::array<unsigned char, 3>;

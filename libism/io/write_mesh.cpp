@@ -1,6 +1,7 @@
 #include "io/io.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <cstdio>
@@ -12,32 +13,53 @@ struct DoubleTraits : OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;
   using Normal = OpenMesh::Vec3d;
 };
-using WriteMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
+
+// Writes positions and faces through an OpenMesh kernel (a TriMesh for
+// triangles, a PolyMesh for polygons, which a TriMesh would split). Faces are
+// added in order, so indices of the written file match the mesh.
+template <class Kernel, std::size_t Corners>
+void write_through_openmesh(const std::vector<Vec3>& positions,
+                            const std::vector<std::array<int, Corners>>& faces,
+                            const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  OpenMesh::IO::Options options;
+  if (ext == ".ply" || ext == ".stl") options += OpenMesh::IO::Options::Binary;
+  Kernel out;
+  out.reserve(positions.size(), Corners * faces.size() / 2, faces.size());
+  std::vector<typename Kernel::VertexHandle> handles;
+  handles.reserve(positions.size());
+  for (const Vec3& p : positions) handles.push_back(out.add_vertex({p.x(), p.y(), p.z()}));
+  omerr().disable();
+  std::vector<typename Kernel::VertexHandle> corners(Corners);
+  for (const auto& face : faces) {
+    for (std::size_t k = 0; k < Corners; ++k) corners[k] = handles[face[k]];
+    if (!out.add_face(corners).is_valid())
+      throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
+  }
+  omlog().disable();
+  omout().disable();
+  if (!OpenMesh::IO::write_mesh(out, path.string(), options, 17))
+    throw FileError(path.string() + ": cannot write the file");
+}
 
 }  // namespace
 
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
-  OpenMesh::IO::Options options;
-  if (ext == ".ply" || ext == ".stl") options += OpenMesh::IO::Options::Binary;
   if (!(ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl"))
     throw FileError(path.string() + ": unsupported output format (use .obj, .ply, .off or .stl)");
+  write_through_openmesh<OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>>(mesh.positions,
+                                                                       mesh.triangles, path);
+}
 
-  // OpenMesh writes through a kernel; faces are added in order, so indices
-  // of the written file match the mesh.
-  WriteMesh out;
-  out.reserve(mesh.n_vertices(), 3 * mesh.n_faces() / 2, mesh.n_faces());
-  std::vector<WriteMesh::VertexHandle> handles;
-  handles.reserve(mesh.n_vertices());
-  for (const Vec3& p : mesh.positions) handles.push_back(out.add_vertex({p.x(), p.y(), p.z()}));
-  omerr().disable();
-  for (const Triangle& t : mesh.triangles)
-    if (!out.add_face(handles[t[0]], handles[t[1]], handles[t[2]]).is_valid())
-      throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
-  omlog().disable();
-  omout().disable();
-  if (!OpenMesh::IO::write_mesh(out, path.string(), options, 17))
-    throw FileError(path.string() + ": cannot write the file");
+void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path) {
+  const std::string ext = path.extension().string();
+  if (!(ext == ".obj" || ext == ".ply" || ext == ".off"))
+    throw FileError(path.string() +
+                    ": unsupported format for quads (use .obj, .ply or .off; .stl and .drc "
+                    "store triangles only)");
+  write_through_openmesh<OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>>(mesh.positions, mesh.quads,
+                                                                        path);
 }
 
 }  // namespace ism::io

@@ -1,8 +1,8 @@
 #include "sample/sample.hpp"
 
 #include "metrics/metrics.hpp"
+#include "sample/grid_measures.hpp"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -68,10 +68,6 @@ std::array<std::array<std::array<int, 2>, 3>, 2> cell_triangles(int n, int row, 
   const std::array<int, 2> tl{row, col}, tr{row, col + 1}, bl{row + 1, col}, br{row + 1, col + 1};
   if (u_positive == v_positive) return {{{tl, bl, br}, {tl, br, tr}}};
   return {{{bl, br, tr}, {bl, tr, tl}}};
-}
-
-TriangleLengths lengths(const Vec3& a, const Vec3& b, const Vec3& c) {
-  return {(b - c).norm(), (c - a).norm(), (a - b).norm()};
 }
 
 }  // namespace
@@ -228,78 +224,23 @@ double image_efficiency(const GeometryImage& image, ImageDomain domain) {
     if (domain == ImageDomain::square) return {uv.x(), uv.y(), 0.0};
     return octahedron_position(octahedron_point(uv.x(), uv.y()));
   };
-  // The sums of one_way_stretch, accumulated per row of cells in parallel and
-  // added up in row order, so the result does not depend on the schedule
-  // (and no n² list of pieces is built).
-  struct Sums {
-    double area_domain = 0.0, area_range = 0.0, weighted_sigma2 = 0.0;
-  };
-  std::vector<Sums> rows(n - 1);
-  tbb::parallel_for(0, n - 1, [&](int row) {
-    Sums s;
-    for (int col = 0; col + 1 < n; ++col)
-      for (const auto& t : cell_triangles(n, row, col)) {
-        const TriangleLengths d =
-            lengths(domain_point(t[0][0], t[0][1]), domain_point(t[1][0], t[1][1]),
-                    domain_point(t[2][0], t[2][1]));
-        const TriangleLengths r = lengths(image.at(t[0][0], t[0][1]), image.at(t[1][0], t[1][1]),
-                                          image.at(t[2][0], t[2][1]));
-        const SingularValues sv = stretch_singular_values(d, r);
-        const double a_range = triangle_area(r);
-        s.area_domain += triangle_area(d);
-        s.area_range += a_range;
-        s.weighted_sigma2 += a_range * 0.5 * (sv.max * sv.max + sv.min * sv.min);
-      }
-    rows[row] = s;
-  });
-  Sums total;
-  for (const Sums& s : rows) {
-    total.area_domain += s.area_domain;
-    total.area_range += s.area_range;
-    total.weighted_sigma2 += s.weighted_sigma2;
-  }
-  if (!(total.area_range > 0.0))
-    throw std::invalid_argument("image_efficiency: the image has zero surface area");
-  const double l2_normalized =
-      total.weighted_sigma2 / total.area_range * (total.area_domain / total.area_range);
-  return 1.0 / l2_normalized;
+  return detail::grid_efficiency(
+      n - 1,
+      [&](int row, std::vector<StretchPiece>& pieces) {
+        for (int col = 0; col + 1 < n; ++col)
+          for (const auto& t : cell_triangles(n, row, col))
+            pieces.push_back(
+                {detail::triangle_lengths(domain_point(t[0][0], t[0][1]),
+                                          domain_point(t[1][0], t[1][1]),
+                                          domain_point(t[2][0], t[2][1])),
+                 detail::triangle_lengths(image.at(t[0][0], t[0][1]), image.at(t[1][0], t[1][1]),
+                                          image.at(t[2][0], t[2][1]))});
+      },
+      "image_efficiency");
 }
 
 std::size_t flipped_triangles(const GeometryImage& image) {
-  const TriangleMesh mesh = image_to_mesh(image);
-  const std::size_t nf = mesh.n_faces(), nv = mesh.n_vertices();
-  std::vector<Vec3> normal(nf);
-  for (std::size_t f = 0; f < nf; ++f) normal[f] = face_normal_scaled(mesh, f);
-
-  // Faces around each vertex (compressed rows).
-  std::vector<std::size_t> start(nv + 1, 0);
-  for (const Triangle& t : mesh.triangles)
-    for (int v : t) ++start[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::size_t> faces(start[nv]);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
-      for (int v : mesh.triangles[f]) faces[fill[v]++] = f;
-  }
-
-  std::vector<char> flipped(nf, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const auto& range) {
-    std::vector<std::size_t> ring;
-    for (std::size_t f = range.begin(); f != range.end(); ++f) {
-      // Union of the faces around the three corners: a neighbour sharing an
-      // edge must count once, not twice.
-      ring.clear();
-      for (int v : mesh.triangles[f])
-        ring.insert(ring.end(), faces.begin() + start[v], faces.begin() + start[v + 1]);
-      std::sort(ring.begin(), ring.end());
-      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      Vec3 sum = Vec3::Zero();
-      for (std::size_t g : ring) sum += normal[g];
-      flipped[f] = normal[f].dot(sum) < 0.0;
-    }
-  });
-  return static_cast<std::size_t>(std::count(flipped.begin(), flipped.end(), 1));
+  return detail::count_flipped_faces(image_to_mesh(image));
 }
 
 }  // namespace ism

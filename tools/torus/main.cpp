@@ -1,22 +1,268 @@
-// torus-remesh MESH --features 9.txt: valence-4 remesh of a closed genus-1
-// surface. The input checks are in place; the map itself needs the map core
-// (issues 3-5), so for a valid input the tool says so and writes nothing.
+// torus-remesh MESH -o OUT: valence-4 remesh of a closed genus-1 surface
+// (paper §6.4). Nine features (given, or chosen from the surface's flat-torus
+// structure) are joined by a consistent path network with the connectivity
+// of the flat 3×3 torus domain::torus_3x3(), the map from that torus (faces
+// right isosceles, the unit square's metric) to the surface is optimised with
+// the features released, and the unit square is sampled on a periodic U×V
+// grid: a closed quad mesh in which every vertex has valence 4
+// (layout in sample/torus_grid.hpp).
+#include "domain/domain.hpp"
+#include "io/draco_io.hpp"
+#include "io/features.hpp"
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "metrics/metrics.hpp"
+#include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
+#include "pm/pm.hpp"
+#include "refine/network_choice.hpp"
+#include "refine/refine.hpp"
+#include "report/report.hpp"
+#include "sample/geometry_image_file.hpp"
+#include "sample/torus_grid.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
 
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <regex>
+
+namespace {
+
+using namespace ism;
+
+struct Options {
+  std::string input, output, features, image, dump_patches;
+  std::string size = "128";
+  bool triangulate = false;
+  bool hold_features = false;
+  int draco_bits = 14;
+  int final_sweeps = 8;
+};
+
+struct GridSize {
+  int columns = 0, rows = 0;
+};
+
+// "N" (N×N) or "UxV" (also "UXV", "U×V").
+GridSize parse_size(const std::string& text) {
+  static const std::regex pattern(R"((\d{1,9})(?:(?:x|X|×)(\d{1,9}))?)");
+  std::smatch m;
+  GridSize size;
+  if (std::regex_match(text, m, pattern)) {
+    size.columns = std::stoi(m[1]);
+    size.rows = m[2].matched ? std::stoi(m[2]) : size.columns;
+  }
+  if (!is_torus_grid_size(size.columns, size.rows))
+    throw tool::Failure("torus-remesh: --size must be N or UxV with N, U, V >= 3 and U*V <= " +
+                        std::to_string(1 << 26) + ", got '" + text + "'");
+  return size;
+}
+
+// Refuses an output format that cannot hold what is asked for, before any work.
+void check_formats(const Options& o) {
+  const std::string ext = std::filesystem::path(o.output).extension().string();
+  const bool quad_format = ext == ".obj" || ext == ".ply" || ext == ".off";
+  if (!o.triangulate && (ext == ".drc" || ext == ".stl"))
+    throw tool::Failure("torus-remesh: " + o.output + ": " + (ext == ".drc" ? "Draco" : "STL") +
+                        " stores triangles only; add --triangulate, or write the quads as .obj, "
+                        ".ply or .off");
+  if (!quad_format && ext != ".drc" && ext != ".stl")
+    throw tool::Failure("torus-remesh: " + o.output +
+                        ": unsupported output format (use .obj, .ply or .off; .stl or .drc with "
+                        "--triangulate)");
+  if (!o.image.empty() && std::filesystem::path(o.image).extension() != ".exr")
+    throw tool::Failure("torus-remesh: " + o.image + ": --image writes OpenEXR, name it .exr");
+}
+
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+// The feature grid with rows and columns swapped: the same lattice, the
+// other orientation.
+std::vector<int> transposed(const std::vector<int>& features) {
+  std::vector<int> out(features.size());
+  for (int row = 0; row < 3; ++row)
+    for (int col = 0; col < 3; ++col) out[3 * col + row] = features[3 * row + col];
+  return out;
+}
+
+// Candidate path networks: automatic, or from the user's nine features. A
+// feature grid oriented against the domain (its rows and columns swapped
+// with respect to the surface's orientation) can only be realised by a
+// twisted network, whose maps stay far from the best map whatever the
+// optimisation does; so the transposed grid is traced too and the coarse
+// maps decide (choose_network). Without any valid network the error of the
+// grid as given is reported.
+struct Candidates {
+  std::vector<PathNetwork> networks;
+  std::vector<int> given_features;  // empty for automatic features
+};
+
+Candidates torus_networks(tool::Run& run, const Options& o, const TriangleMesh& surface,
+                          const TriangleMesh& torus) {
+  tool::Progress& progress = run.stage("partition");
+  const PartitionOptions options{.progress = [&](double f) { progress.update(f); }};
+  Candidates c;
+  try {
+    if (o.features.empty()) {
+      c.networks.push_back(trace_torus_network(surface, options));
+      return c;
+    }
+    const auto entries = io::read_feature_file(o.features);
+    if (entries.size() != torus.n_vertices())
+      throw tool::Failure(o.features + ": " + std::to_string(entries.size()) +
+                          " features, torus-remesh needs 9 (row-major in the 3x3 grid)");
+    c.given_features = io::resolve_features(entries, surface, 3, o.features);
+    std::optional<PartitionError> first_error;
+    for (const auto& grid : {c.given_features, transposed(c.given_features)}) {
+      try {
+        c.networks.push_back(trace_path_network(surface, torus, grid, options));
+      } catch (const PartitionError& e) {
+        if (!first_error) first_error = e;
+      }
+    }
+    if (c.networks.empty()) throw *first_error;
+    return c;
+  } catch (const PartitionError& e) {
+    throw tool::Failure(o.input + ": " + e.what() +
+                        (o.features.empty() ? "" : " (features from " + o.features + ")"));
+  } catch (const io::FileError& e) {
+    throw tool::Failure(e.what());
+  }
+}
+
+int run_torus(const Options& o, const tool::CommonOptions& common) {
+  tool::Run run("torus-remesh", common);
+  run.add_input(o.input);
+  if (!o.features.empty()) run.add_input(o.features);
+  const GridSize size = parse_size(o.size);
+  check_formats(o);
+  for (const std::string& out : {o.output, o.image, o.dump_patches})
+    if (!out.empty()) run.check_output(out);
+
+  const TriangleMesh surface =
+      run.load_surface(o.input, {.tool = "torus-remesh", .closed = true, .genus = 1});
+
+  const TriangleMesh torus = domain::torus_3x3();
+  Candidates candidates = torus_networks(run, o, surface, torus);
+  const std::size_t n_candidates = candidates.networks.size();
+
+  run.stage("progressive mesh");
+  // The unit square's metric: the stretch optimised is the stretch the grid samples with.
+  const DomainGeometry domain(torus, torus_3x3_lengths(torus));
+  tool::Progress& progress = run.stage("map");
+  const std::unique_ptr<MapSetup> chosen = choose_network(
+      std::move(candidates.networks), domain, MapOptions{.release_features = !o.hold_features});
+  SurfaceMap& map = *chosen->map;
+  run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
+  run.report()["partition"]["candidate_networks"] = n_candidates;
+  Json& fj = run.report()["features"];
+  fj["source"] = o.features.empty() ? "automatic" : "file";
+  if (!o.features.empty()) {
+    fj["file"] = o.features;
+    const bool was_transposed = chosen->network.features != candidates.given_features;
+    fj["transposed"] = was_transposed;
+    if (was_transposed)
+      run.note(o.features +
+               ": the feature grid is oriented against the domain; using it transposed (rows as "
+               "columns)");
+  }
+  if (!o.dump_patches.empty())
+    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
+      write_patch_dump(chosen->network, p);
+    });
+  RefineOptions refine_options;
+  refine_options.max_final_sweeps = o.final_sweeps;
+  refine_options.progress = [&](double f) { progress.update(f); };
+  RefineStats stats;
+  try {
+    stats = refine(map, refine_options);
+  } catch (const std::runtime_error& e) {
+    throw tool::Failure("torus-remesh: the map optimisation failed on " + o.input + " (" +
+                        e.what() + "); try --hold-features or other --features");
+  }
+
+  run.stage("validate");
+  if (const auto problem = map.validate())
+    throw tool::Failure("torus-remesh: internal error, the map is invalid: " + *problem);
+
+  run.stage("sample");
+  const MapSampler sampler(map);
+  const TorusGrid grid = sample_torus_grid(size.columns, size.rows, [&](const TorusPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    if (!s) throw std::runtime_error("a sample fell outside the map");
+    return s->position;
+  });
+  const QuadMesh quads = torus_grid_mesh(grid);
+  const TriangleMesh triangles = triangulate(quads);
+
+  run.stage("write");
+  tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
+    if (o.triangulate)
+      io::write_mesh_file(triangles, p, o.draco_bits);
+    else
+      io::write_quad_mesh(quads, p);
+  });
+  tool::write_output(run, o.image,
+                     [&](const std::filesystem::path& p) { write_torus_image(grid, p); });
+
+  run.stage("measure");
+  const MapMeasures m = map.measures();
+  const SurfaceDistance distance = surface_distance(surface, triangles);
+  const double grid_efficiency = torus_grid_efficiency(grid);
+  const std::size_t flipped = torus_grid_flipped_triangles(grid);
+  Json& r = run.report();
+  r["metric"] = "right-isosceles";
+  r["features_released"] = !o.hold_features;
+  r["map"] = map_report(map, m, stats);
+  Json& gj = r["grid"];
+  gj["columns"] = size.columns;
+  gj["rows"] = size.rows;
+  gj["efficiency"] = grid_efficiency;
+  gj["flipped_triangles"] = flipped;
+  Json& sj = r["remesh"];
+  sj["vertices"] = quads.n_vertices();
+  sj["faces"] = o.triangulate ? triangles.n_faces() : quads.n_faces();
+  sj["face_kind"] = o.triangulate ? "triangles" : "quads";
+  r["distance"] = distance_report(distance);
+  run.note(o.output + ": " + std::to_string(size.columns) + "x" + std::to_string(size.rows) +
+           " torus grid, " + std::to_string(quads.n_faces()) + " quads; map efficiency " +
+           fixed(m.forward_efficiency, 3) + " (symmetric " + fixed(m.symmetric_efficiency, 3) +
+           "), grid efficiency " + fixed(grid_efficiency, 3) + ", " + std::to_string(flipped) +
+           " flipped triangles, PSNR " + fixed(distance.psnr_db, 1) + " dB");
+  run.finish();
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{"torus-remesh: valence-4 grid remesh of a closed genus-1 surface"};
-  ism::tool::CommonOptions common;
-  std::string input, output;
-  app.add_option("mesh", input, "Closed genus-1 surface (.obj, .ply, .off, .stl)")->required();
-  app.add_option("-o,--output", output, "Quad mesh (.obj)");
-  ism::tool::add_common_options(app, common);
+  Options o;
+  tool::CommonOptions common;
+  app.add_option("mesh", o.input, "Closed genus-1 surface (.obj, .ply, .off, .stl)")->required();
+  app.add_option("-o,--output", o.output,
+                 "Grid remesh: quads as .obj, .ply, .off; with --triangulate also .stl, .drc")
+      ->required();
+  app.add_option("--features", o.features,
+                 "9 features, row-major in the 3x3 torus grid: vertex indices, points (snapped), "
+                 "or ROW COL INDEX X Y Z lines (default: automatic)");
+  app.add_option("--size", o.size, "Grid size N (NxN) or UxV, at least 3x3")->capture_default_str();
+  app.add_flag("--triangulate", o.triangulate, "Write two triangles per grid quad");
+  app.add_option("--image", o.image, "Periodic geometry image (.exr, V rows x U columns)");
+  app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
+  app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
+  app.add_option("--final-sweeps", o.final_sweeps,
+                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
+      ->check(CLI::Range(0, 1000));
+  app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits (.drc)")
+      ->check(CLI::Range(8, 30));
+  tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
-
-  return ism::tool::run_main("torus-remesh", [&] {
-    ism::tool::Run run("torus-remesh", common);
-    run.load_surface(input, {.tool = "torus-remesh", .closed = true, .genus = 1});
-    throw ism::tool::Failure("torus-remesh: the toroidal map is not implemented yet");
-    return 0;
-  });
+  return tool::run_main("torus-remesh", [&] { return run_torus(o, common); });
 }
