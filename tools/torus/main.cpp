@@ -152,9 +152,9 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   Candidates candidates = torus_networks(run, o, surface, torus);
   const std::size_t n_candidates = candidates.networks.size();
 
-  run.stage("progressive mesh");
   // The unit square's metric: the stretch optimised is the stretch the grid samples with.
   const DomainGeometry domain(torus, torus_3x3_lengths(torus));
+  // Progressive meshes and coarse maps of the candidates, then the refinement.
   tool::Progress& progress = run.stage("map");
   const std::unique_ptr<MapSetup> chosen = choose_network(
       std::move(candidates.networks), domain, MapOptions{.release_features = !o.hold_features});
@@ -168,9 +168,9 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
     const bool was_transposed = chosen->network.features != candidates.given_features;
     fj["transposed"] = was_transposed;
     if (was_transposed)
-      run.note(o.features +
-               ": the feature grid is oriented against the domain; using it transposed (rows as "
-               "columns)");
+      run.note(o.features + ": using the feature grid transposed (rows as columns); as given " +
+               (n_candidates == 1 ? "it cannot be traced"
+                                  : "it gives a worse, twisted map (oriented against the domain)"));
   }
   if (!o.dump_patches.empty())
     tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
