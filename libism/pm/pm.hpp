@@ -31,8 +31,29 @@ struct ProgressiveMesh {
   std::size_t relaxed_collapses = 0;
 };
 
+/// Which collapse goes first.
+enum class SimplifyPriority {
+  /// Garland-Heckbert quadric error: keeps the shape, triangles may be long
+  /// and thin where the surface is flat.
+  quadric,
+  /// Smallest merged region first (the input surface area that the two
+  /// vertices stand for), divided by the squared shape quality of the
+  /// triangles the collapse leaves: even, nearly equilateral faces. Base domains want this: their
+  /// faces are mapped as equilateral
+  /// triangles, so a base face's shape and size bound the map's stretch.
+  isotropic,
+};
+
 struct SimplifyOptions {
   std::function<void(double)> progress;  // fraction of collapses done
+  SimplifyPriority priority = SimplifyPriority::quadric;
+  /// isotropic only: how strongly a collapse is postponed when it moves the
+  /// valences it changes away from 6 (a base vertex of valence k becomes a
+  /// cone of k·60° in an equilateral domain). 0 ignores valences.
+  double valence_weight = 0.0;
+  /// isotropic only: aim each vertex at the valence whose cone matches the
+  /// Gaussian curvature of the surface it stands for (6 − 3K/π) instead of 6.
+  bool valence_from_curvature = false;
 };
 
 /// Simplifies the network's surface down to a base mesh with exactly the

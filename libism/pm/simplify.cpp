@@ -59,6 +59,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <queue>
 #include <set>
 #include <stdexcept>
@@ -289,6 +290,51 @@ class Simplifier {
     return true;
   }
 
+  /// Smallest shape quality 4√3·area/Σ|edge|² (1 equilateral, 0 degenerate)
+  /// of the faces that survive the collapse vs -> vt.
+  double quality_after(int vs, int vt) const {
+    const Vec3& pt = positions_[vt];
+    double worst = 1.0;
+    for (int f : vertex_faces_[vs]) {
+      const Triangle& t = faces_[f];
+      if (contains(t, vt)) continue;
+      const int k = corner_of(t, vs);
+      const Vec3& a = positions_[t[(k + 1) % 3]];
+      const Vec3& b = positions_[t[(k + 2) % 3]];
+      const double twice_area = (a - pt).cross(b - pt).norm();
+      const double lengths =
+          (a - pt).squaredNorm() + (b - pt).squaredNorm() + (a - b).squaredNorm();
+      worst = std::min(worst, lengths > 0 ? 2.0 * std::sqrt(3.0) * twice_area / lengths : 0.0);
+    }
+    return worst;
+  }
+
+  double collapse_cost(int vs, int vt) const {
+    if (priority_ == SimplifyPriority::quadric)
+      return quadrics_[vs].error_sum(quadrics_[vt], positions_[vt]);
+    // Size of the merged region (surface area the two vertices stand for),
+    // inflated by the shape it would leave.
+    // Squared shape quality: postpones poor triangles more than large regions.
+    const double quality = quality_after(vs, vt);
+    const double cost =
+        (region_area_[vs] + region_area_[vt]) / std::pow(std::max(quality, 1e-3), 2);
+    int vl, vr;
+    if (valence_weight_ == 0 || !wings(vs, vt, vl, vr)) return cost;
+    // Valences after the collapse: vt gains vs's fan less the two wings, the
+    // wings lose one each.
+    // 6, or the valence that makes a vertex's cone (valence·60°) match the
+    // angle defect of the surface it stands for.
+    auto deviation = [&](int v, double valence) {
+      const double ideal =
+          valence_from_curvature_ ? 6.0 - 3.0 * region_curvature_[v] / std::numbers::pi : 6.0;
+      return (valence - ideal) * (valence - ideal);
+    };
+    const auto valence = [&](int v) { return double(vertex_faces_[v].size()); };
+    return cost * (1 + valence_weight_ *
+                           (deviation(vt, valence(vt) + valence(vs) - 4) +
+                            deviation(vl, valence(vl) - 1) + deviation(vr, valence(vr) - 1)));
+  }
+
   // ---- queue -----------------------------------------------------------
   void evaluate(int vs);
   bool pop_legal(CandidateQueue& queue, bool allow_flips, Candidate& out);
@@ -299,6 +345,11 @@ class Simplifier {
   std::vector<std::vector<int>> vertex_faces_;
   std::vector<std::uint8_t> face_alive_;
   std::vector<Quadric> quadrics_;
+  SimplifyPriority priority_ = SimplifyPriority::quadric;
+  double valence_weight_ = 0.0;
+  bool valence_from_curvature_ = false;
+  std::vector<double> region_area_;       // input surface area each vertex stands for
+  std::vector<double> region_curvature_;  // and its Gaussian curvature (angle defects)
 
   // Network: kind of each vertex; for path vertices their neighbours along
   // the path (towards the path's first and last feature); feature pairs
@@ -467,8 +518,7 @@ void Simplifier::evaluate(int vs) {
   else
     collect_neighbours(vs, targets_);
   scored_.clear();
-  for (int vt : targets_)
-    scored_.emplace_back(quadrics_[vs].error_sum(quadrics_[vt], positions_[vt]), vt);
+  for (int vt : targets_) scored_.emplace_back(collapse_cost(vs, vt), vt);
   std::sort(scored_.begin(), scored_.end());
 
   bool have_flipping = false;
@@ -523,6 +573,10 @@ void Simplifier::collapse(int vs, int vt) {
   vertex_faces_[vs].clear();
   vertex_faces_[vs].shrink_to_fit();
   quadrics_[vt] += quadrics_[vs];
+  if (!region_area_.empty()) {
+    region_area_[vt] += region_area_[vs];
+    region_curvature_[vt] += region_curvature_[vs];
+  }
 
   if (kind_[vs] == Kind::path) {
     // Unlink vs from its path: its other path neighbour now meets vt.
@@ -540,6 +594,22 @@ void Simplifier::collapse(int vs, int vt) {
 }
 
 void Simplifier::run(std::size_t target, const SimplifyOptions& options) {
+  priority_ = options.priority;
+  valence_weight_ = options.valence_weight;
+  valence_from_curvature_ = options.valence_from_curvature;
+  region_area_.assign(positions_.size(), 0.0);
+  region_curvature_.assign(positions_.size(), 2 * std::numbers::pi);
+  for (const Triangle& t : faces_) {
+    const double third =
+        (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm() /
+        6.0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = positions_[t[k]];
+      const Vec3 a = positions_[t[(k + 1) % 3]] - p, b = positions_[t[(k + 2) % 3]] - p;
+      region_area_[t[k]] += third;
+      region_curvature_[t[k]] -= std::atan2(a.cross(b).norm(), a.dot(b));
+    }
+  }
   for (std::size_t v = 0; v < positions_.size(); ++v) evaluate(static_cast<int>(v));
 
   const std::size_t total = alive_count_ > target ? alive_count_ - target : 0;

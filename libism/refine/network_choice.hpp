@@ -15,9 +15,18 @@ namespace ism {
 
 /// A map together with what it refers to (SurfaceMap keeps references).
 struct MapSetup {
+  std::unique_ptr<const DomainGeometry> owned_domain;  // null when the domain is shared
   PathNetwork network;
   ProgressiveMesh pm;
   std::unique_ptr<SurfaceMap> map;
+  std::size_t candidate = 0;  // index of the chosen candidate
+};
+
+/// A domain of its own (e.g. one of several base meshes) with a path network
+/// of the surface that has the domain's connectivity.
+struct DomainCandidate {
+  std::unique_ptr<const DomainGeometry> domain;
+  PathNetwork network;
 };
 
 /// Builds a map per network (progressive mesh, trivial map), refines each to
@@ -26,5 +35,11 @@ struct MapSetup {
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const DomainGeometry& domain, const MapOptions& options,
                                          std::size_t coarse_vertices = 1000);
+
+/// The same choice among candidates that differ in their domain as well;
+/// the result owns its domain.
+std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
+                                        const MapOptions& options,
+                                        std::size_t coarse_vertices = 1000);
 
 }  // namespace ism

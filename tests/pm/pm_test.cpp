@@ -251,8 +251,9 @@ TEST(ConstrainedPmRuns, RejectBrokenNetworks) {
 
 /// simplify_to(target): exactly target vertices, listed in increasing order,
 /// same topology, exact replay, valid levels.
-void expect_simplified(const TriangleMesh& mesh, std::size_t target) {
-  const ProgressiveMesh pm = simplify_to(mesh, target);
+void expect_simplified(const TriangleMesh& mesh, std::size_t target,
+                       const SimplifyOptions& options = {}) {
+  const ProgressiveMesh pm = simplify_to(mesh, target, options);
   ASSERT_EQ(pm.base_vertices.size(), target);
   EXPECT_TRUE(std::is_sorted(pm.base_vertices.begin(), pm.base_vertices.end()));
   const TriangleMesh base = base_mesh(pm);
@@ -319,8 +320,62 @@ TEST(SimplifyTo, SharedModels) {
         prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / file));
     ASSERT_TRUE(prepared.check.valid_surface());
     expect_simplified(prepared.mesh, target);
+    expect_simplified(prepared.mesh, target,
+                      {.priority = SimplifyPriority::isotropic,
+                       .valence_weight = 0.01,
+                       .valence_from_curvature = true});
     EXPECT_EQ(test::surface_topology(base_mesh(simplify_to(prepared.mesh, target))).euler,
               2 - 2 * *prepared.check.genus);
+  }
+}
+
+/// Mean and smallest shape quality 4√3·area/Σ|edge|² of the faces, and
+/// Σ(valence − 6)² over the vertices.
+struct BaseShape {
+  double mean_quality = 0, worst_quality = 1, valence_deviation = 0;
+};
+
+BaseShape base_shape(const TriangleMesh& base) {
+  BaseShape s;
+  std::vector<int> valence(base.n_vertices(), 0);
+  for (const Triangle& t : base.triangles) {
+    const Vec3 &a = base.positions[t[0]], &b = base.positions[t[1]], &c = base.positions[t[2]];
+    const double q = 2 * std::sqrt(3.0) * (b - a).cross(c - a).norm() /
+                     ((b - a).squaredNorm() + (c - b).squaredNorm() + (a - c).squaredNorm());
+    s.mean_quality += q / double(base.n_faces());
+    s.worst_quality = std::min(s.worst_quality, q);
+    for (int v : t) ++valence[v];
+  }
+  for (int k : valence) s.valence_deviation += (k - 6) * (k - 6);
+  return s;
+}
+
+// Base domains are mapped face by face onto equilateral triangles: the
+// isotropic priority must give better-shaped faces than the quadric one, and
+// the valence term valences closer to 6, each base still a valid level of
+// an exactly replayable progressive mesh.
+TEST(SimplifyTo, IsotropicPriorityGivesWellShapedBases) {
+  ISM_REQUIRE_SHARED_MODELS();
+  for (const char* file : {"bunny_small.obj", "rocker_arm.obj"}) {
+    SCOPED_TRACE(file);
+    const TriangleMesh mesh =
+        prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / file)).mesh;
+    const BaseShape quadric = base_shape(base_mesh(simplify_to(mesh, 100)));
+    const SimplifyOptions isotropic{.priority = SimplifyPriority::isotropic};
+    const BaseShape even = base_shape(base_mesh(simplify_to(mesh, 100, isotropic)));
+    SimplifyOptions regular = isotropic;
+    regular.valence_weight = 0.05;
+    const BaseShape valences = base_shape(base_mesh(simplify_to(mesh, 100, regular)));
+    std::printf("  quality mean/min, valence deviation: quadric %.3f/%.3f/%.0f, isotropic "
+                "%.3f/%.3f/%.0f, with valences %.3f/%.3f/%.0f\n",
+                quadric.mean_quality, quadric.worst_quality, quadric.valence_deviation,
+                even.mean_quality, even.worst_quality, even.valence_deviation,
+                valences.mean_quality, valences.worst_quality, valences.valence_deviation);
+    EXPECT_GT(even.mean_quality, quadric.mean_quality + 0.03);
+    EXPECT_GT(even.mean_quality, 0.85);
+    EXPECT_GT(even.worst_quality, quadric.worst_quality);
+    EXPECT_LT(valences.valence_deviation, even.valence_deviation);
+    expect_simplified(mesh, 100, regular);
   }
 }
 

@@ -10,6 +10,7 @@
 #include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
+#include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
 #include "sample/semiregular.hpp"
@@ -109,6 +110,52 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Option
   return {std::move(base), std::move(features)};
 }
 
+struct BaseCandidate {
+  std::string name;
+  TriangleMesh mesh;
+  std::vector<int> features;  // base vertex i is surface vertex features[i]
+};
+
+// Bases of about o.base_size vertices decimated from the surface: the
+// quadric error keeps the shape but leaves long triangles on flat parts;
+// isotropic priorities give even, well-shaped faces, more or less bent
+// towards valence 6.
+std::vector<BaseCandidate> decimated_bases(tool::Run& run, const Options& o,
+                                           const TriangleMesh& surface) {
+  const std::pair<const char*, SimplifyOptions> priorities[] = {
+      {"isotropic", {.priority = SimplifyPriority::isotropic}},
+      {"isotropic, valence 0.01",
+       {.priority = SimplifyPriority::isotropic, .valence_weight = 0.01}},
+      {"isotropic, valence from curvature",
+       {.priority = SimplifyPriority::isotropic,
+        .valence_weight = 0.01,
+        .valence_from_curvature = true}},
+      {"quadric", {.priority = SimplifyPriority::quadric}},
+  };
+  tool::Progress& progress = run.stage("base");
+  std::vector<BaseCandidate> bases;
+  const double n = double(std::size(priorities));
+  for (const auto& [name, priority] : priorities) {
+    SimplifyOptions options = priority;
+    const double done = double(bases.size());
+    options.progress = [&](double f) { progress.update((done + f) / n); };
+    ProgressiveMesh decimated;
+    try {
+      decimated = simplify_to(surface, o.base_size, options);
+    } catch (const std::runtime_error& e) {
+      throw tool::Failure(o.input + ": cannot decimate to a base mesh: " + e.what());
+    }
+    if (decimated.base_vertices.size() != o.base_size && bases.empty())
+      run.note(o.input + ": the base has " + std::to_string(decimated.base_vertices.size()) +
+               " vertices, not " + std::to_string(o.base_size) + " (no legal collapse left)");
+    bases.push_back({name, base_mesh(decimated), decimated.base_vertices});
+  }
+  Json& bj = run.report()["base"];
+  bj["source"] = "decimation";
+  bj["requested_vertices"] = o.base_size;
+  return bases;
+}
+
 int run_semireg(const Options& o, const tool::CommonOptions& common) {
   tool::Run run("semireg", common);
   run.add_input(o.input);
@@ -120,54 +167,56 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
 
   const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
 
-  TriangleMesh base;
-  std::vector<int> features;
+  // Candidate bases: the user's, or decimations with different priorities
+  // (which one suits a surface best is not predictable: each is mapped to a
+  // coarse level and the lowest energy wins).
+  std::vector<BaseCandidate> bases;
   if (!o.base.empty()) {
-    std::tie(base, features) = user_base(run, o, surface);
+    auto [base, features] = user_base(run, o, surface);
+    bases.push_back({"file", std::move(base), std::move(features)});
   } else {
-    tool::Progress& progress = run.stage("base");
-    ProgressiveMesh decimated;
-    try {
-      decimated =
-          simplify_to(surface, o.base_size, {.progress = [&](double f) { progress.update(f); }});
-    } catch (const std::runtime_error& e) {
-      throw tool::Failure(o.input + ": cannot decimate to a base mesh: " + e.what());
-    }
-    base = base_mesh(decimated);
-    features = decimated.base_vertices;
-    Json& bj = run.report()["base"];
-    bj["source"] = "decimation";
-    bj["requested_vertices"] = o.base_size;
-    if (base.n_vertices() != o.base_size)
-      run.note(o.input + ": the base has " + std::to_string(base.n_vertices()) + " vertices, not " +
-               std::to_string(o.base_size) + " (no legal collapse left)");
+    bases = decimated_bases(run, o, surface);
   }
+
+  tool::Progress& partition_progress = run.stage("partition");
+  std::vector<DomainCandidate> candidates;
+  std::vector<std::size_t> candidate_base;
+  std::string first_error;
+  for (std::size_t i = 0; i < bases.size(); ++i) {
+    try {
+      PathNetwork network =
+          trace_path_network(surface, bases[i].mesh, bases[i].features, {.progress = [&](double f) {
+                               partition_progress.update((double(i) + f) / double(bases.size()));
+                             }});
+      candidates.push_back(
+          {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
+           std::move(network)});
+      candidate_base.push_back(i);
+    } catch (const PartitionError& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  if (candidates.empty()) throw tool::Failure(o.input + ": " + first_error);
+
+  tool::Progress& progress = run.stage("map");
+  const std::unique_ptr<MapSetup> chosen =
+      choose_domain(std::move(candidates), MapOptions{.release_features = !o.hold_features}, 5000);
+  const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
+  const TriangleMesh& base = chosen_base.mesh;
   {
     Json& bj = run.report()["base"];
     bj["vertices"] = base.n_vertices();
     bj["faces"] = base.n_faces();
-  }
-
-  tool::Progress& partition_progress = run.stage("partition");
-  PathNetwork network;
-  try {
-    network = trace_path_network(surface, base, features,
-                                 {.progress = [&](double f) { partition_progress.update(f); }});
-  } catch (const PartitionError& e) {
-    throw tool::Failure(o.input + ": " + e.what());
+    bj["candidates"] = bases.size();
+    bj["chosen"] = chosen_base.name;
   }
   if (!o.dump_patches.empty())
-    tool::write_output(run, o.dump_patches,
-                       [&](const std::filesystem::path& p) { write_patch_dump(network, p); });
+    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
+      write_patch_dump(chosen->network, p);
+    });
+  run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
 
-  tool::Progress& pm_progress = run.stage("progressive mesh");
-  const ProgressiveMesh pm =
-      simplify_constrained(network, base, {.progress = [&](double f) { pm_progress.update(f); }});
-  run.report()["partition"] = partition_report(network, base, pm);
-
-  tool::Progress& progress = run.stage("map");
-  const DomainGeometry domain(base, equilateral_lengths(base));
-  SurfaceMap map(domain, pm, MapOptions{.release_features = !o.hold_features});
+  SurfaceMap& map = *chosen->map;
   RefineOptions refine_options;
   refine_options.max_final_sweeps = o.final_sweeps;
   refine_options.progress = [&](double f) { progress.update(f); };

@@ -1,0 +1,76 @@
+// Choosing among candidate maps: the lowest coarse energy wins, whether the
+// candidates share a domain (octahedral networks) or bring their own (bases).
+#include "domain/domain.hpp"
+#include "map/map.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/network_choice.hpp"
+#include "shapes/shapes.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ism {
+namespace {
+
+constexpr std::size_t coarse_vertices = 300;
+
+// The energy a candidate reaches on its own at the coarse level.
+double coarse_energy(const DomainGeometry& domain, const PathNetwork& network) {
+  const ProgressiveMesh pm = simplify_constrained(network, domain.mesh());
+  SurfaceMap map(domain, pm);
+  RefineOptions options;
+  options.stop_at_vertices = coarse_vertices;
+  refine(map, options);
+  return map.energy();
+}
+
+TEST(NetworkChoice, KeepsTheLowestCoarseEnergyAmongNetworks) {
+  const TriangleMesh surface = shapes::blob(2000, 4, 0.4);
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry domain(octahedron,
+                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  const std::vector<PathNetwork> networks = trace_octahedral_networks(surface);
+  ASSERT_GE(networks.size(), 2u);
+  std::vector<double> energies;
+  for (const PathNetwork& n : networks) energies.push_back(coarse_energy(domain, n));
+  const std::size_t best =
+      std::size_t(std::min_element(energies.begin(), energies.end()) - energies.begin());
+
+  const auto chosen = choose_network(networks, domain, {}, coarse_vertices);
+  EXPECT_EQ(chosen->candidate, best);
+  EXPECT_EQ(chosen->owned_domain, nullptr);
+  EXPECT_DOUBLE_EQ(chosen->map->energy(), energies[best]);
+  EXPECT_EQ(chosen->map->validate(), std::nullopt);
+}
+
+TEST(NetworkChoice, CandidatesWithTheirOwnDomains) {
+  const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
+  std::vector<DomainCandidate> candidates;
+  std::vector<double> energies;
+  for (SimplifyPriority priority : {SimplifyPriority::quadric, SimplifyPriority::isotropic}) {
+    const ProgressiveMesh decimated = simplify_to(surface, 30, {.priority = priority});
+    const TriangleMesh base = base_mesh(decimated);
+    auto domain = std::make_unique<DomainGeometry>(base, equilateral_lengths(base));
+    PathNetwork network = trace_path_network(surface, base, decimated.base_vertices);
+    energies.push_back(coarse_energy(*domain, network));
+    candidates.push_back({std::move(domain), std::move(network)});
+  }
+  const std::size_t best = energies[1] < energies[0] ? 1 : 0;
+  const auto chosen = choose_domain(std::move(candidates), {}, coarse_vertices);
+  EXPECT_EQ(chosen->candidate, best);
+  ASSERT_NE(chosen->owned_domain, nullptr);
+  EXPECT_EQ(&chosen->map->domain(), chosen->owned_domain.get());
+  EXPECT_DOUBLE_EQ(chosen->map->energy(), energies[best]);
+  EXPECT_EQ(chosen->map->validate(), std::nullopt);
+  // The chosen map goes on to full resolution.
+  refine(*chosen->map);
+  EXPECT_EQ(chosen->map->validate(), std::nullopt);
+  EXPECT_EQ(chosen->map->n_vertices(), chosen->network.surface.n_vertices());
+}
+
+TEST(NetworkChoice, RefusesAnEmptyChoice) {
+  EXPECT_THROW(choose_domain({}, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace ism
