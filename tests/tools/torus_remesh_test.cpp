@@ -1,6 +1,7 @@
 // torus-remesh as a user runs it: closed genus-1 grids in which every vertex
 // has valence 4, read back from the written files; the report's measures;
 // the periodic image; and clean refusals of unsuitable inputs.
+#include "closed_surface_checks.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
 #include "sample/geometry_image_file.hpp"
@@ -59,13 +60,7 @@ void expect_valence_four_torus(const fs::path& file, int columns, int rows, bool
     for (std::size_t v = 0; v < cells; ++v)
       EXPECT_EQ(neighbours[int(v)].size(), 4u) << "vertex " << v;
   const ism::MeshCheck c = ism::prepare_mesh(triangles).check;
-  EXPECT_TRUE(c.valid_surface());
-  EXPECT_TRUE(c.closed());
-  EXPECT_EQ(c.genus, 1);
-  EXPECT_EQ(long(c.vertices) - long(c.edges) + long(c.faces), 0);
-  EXPECT_EQ(c.welded_vertices, 0u);
-  EXPECT_EQ(c.reoriented_faces, 0u);
-  EXPECT_FALSE(c.flipped_inward);
+  ism::test::expect_clean_closed_surface(c, 1);
 }
 
 TEST(TorusRemesh, GeneratedTorusGivesAValenceFourGridAndAReport) {
