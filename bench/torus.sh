@@ -54,7 +54,7 @@ paper = {"teapot": "0.458", "rocker_arm": "0.582", "generated_torus_R2_r1": "(an
 def eff(x):
     return f"{x:.3f}" if x >= 0.001 else f"{x:.1e}"
 print(f"torus-remesh, {size}x{size} grid over the flat 3x3 torus (right-isosceles faces, the "
-      f"unit square's metric), features released; {os.cpu_count()} cores ({platform.machine()}). "
+      f"unit square's metric), features released; {os.cpu_count()} cores ({platform.machine()}), commit {commit}. "
       f"Times in seconds (map: progressive meshes, coarse maps of the candidate networks and "
       f"the refinement), memory in MB. One-way efficiency: the map domain -> surface; grid: "
       f"the same measure on the sampled grid triangles; flips: grid triangles against their "
