@@ -47,6 +47,27 @@ struct PartitionOptions {
   /// trace_octahedral_networks(): also try each antipodal pair as the poles
   /// (for metrics in which the poles differ from the equator).
   bool distinguish_poles = false;
+  /// The paper's heuristics against swirls (§4): paths at the surface's
+  /// extremities first (features whose mean distance to their 8 nearest
+  /// features is in the top quarter: their paths count half their length),
+  /// and a path that passes a neighbouring feature (third corner of one of
+  /// its domain edge's two faces) on the other side than in M¹ waits until
+  /// only such paths are left. Off by default: on the octahedral networks of
+  /// gim-remesh they did not pay (bunny 16 -> 16 flipped triangles, dragon
+  /// efficiency 0.569 -> 0.549, fandisk worse); on a torus the homotopy
+  /// guide below decides the class exactly.
+  bool swirl_heuristics = false;
+  /// Homotopy guide for a domain that lives on the flat torus R²/Z² (such as
+  /// domain::torus_3x3()): a point of that torus per surface vertex (a map
+  /// of the surface to it, e.g. a harmonic one) and per domain vertex. When
+  /// given, the path of domain edge (a, b) is the shortest one whose lift to
+  /// the plane moves by the domain edge's own shortest displacement, so the
+  /// network is in the map's homotopy class: no path winds around a handle
+  /// more than the domain says (no swirls, no Dehn twists). Points count
+  /// modulo 1; the points of neighbouring surface vertices must be less than
+  /// half a period apart.
+  std::vector<Eigen::Vector2d> surface_torus_points;
+  std::vector<Eigen::Vector2d> domain_torus_points;
 };
 
 /// Traces the network of `domain`'s connectivity on `surface` between the

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <queue>
 #include <set>
 
@@ -44,16 +45,26 @@ struct Candidate {
   double length;
   int edge;
   std::vector<int> vertices;
+  bool wrong_side = false;    // passes a neighbouring feature on the other side than M¹
+  bool side_checked = false;  // wrong_side is known
+  double priority = 0;        // queue key: shorter first, extremities earlier
   bool operator>(const Candidate& o) const {
-    return length != o.length ? length > o.length : edge > o.edge;
+    if (wrong_side != o.wrong_side) return wrong_side;
+    return priority != o.priority ? priority > o.priority : edge > o.edge;
   }
 };
 
 class NetworkTracer {
  public:
   NetworkTracer(const TriangleMesh& surface, const TriangleMesh& domain,
-                const std::vector<int>& features)
+                const std::vector<int>& features, const PartitionOptions& options)
       : domain_(domain), features_(features) {
+    if (!options.surface_torus_points.empty()) {
+      torus_points_ = options.surface_torus_points;
+      for (auto& p : torus_points_) p = p.array() - p.array().floor();
+      domain_torus_points_ = options.domain_torus_points;
+    }
+    swirl_heuristics_ = options.swirl_heuristics;
     for (const Vec3& p : surface.positions) mesh_.add_vertex({p.x(), p.y(), p.z()});
     for (const Triangle& t : surface.triangles)
       if (!mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2])).is_valid())
@@ -67,6 +78,7 @@ class NetworkTracer {
     long chi = long(used) - long(mesh_.n_edges()) + long(surface.n_faces());
     genus_ = int((2 - chi) / 2);
     non_separating_paths_ = int(features_.size()) - 1 + 2 * genus_;
+    find_extremities();
   }
 
   PathNetwork run(const std::function<void(double)>& progress);
@@ -77,7 +89,11 @@ class NetworkTracer {
   VH first_step(int e, int i) const;
   std::vector<char> allowed_ring(int i, int j);
   std::optional<Candidate> shortest_path(int e);
+  std::optional<Candidate> shortest_path_in_class(int e);
   bool still_valid(const Candidate& c);
+  int side_of(const std::vector<int>& path, int feature);
+  bool on_wrong_side(const Candidate& c);
+  void find_extremities();
   int count_regions() const;
   void insert(const Candidate& c);
   void split_edges_between_network_vertices();
@@ -92,6 +108,11 @@ class NetworkTracer {
   std::map<std::pair<int, int>, int> edge_index_;
   std::vector<std::vector<int>> ring_;  // ccw domain neighbours of each domain vertex
   std::vector<std::vector<int>> paths_;
+  bool swirl_heuristics_ = false;
+  std::vector<char> extremity_;  // per feature: far from its nearest features
+  // Homotopy guide (empty without one): torus points in [0, 1)² per mesh
+  // vertex (Steiner vertices included) and per domain vertex.
+  std::vector<Eigen::Vector2d> torus_points_, domain_torus_points_;
   std::vector<char> on_network_;
   std::unordered_set<std::uint64_t> network_edges_;
   int traced_ = 0;
@@ -100,6 +121,9 @@ class NetworkTracer {
   std::vector<int> parent_;
   std::vector<unsigned> stamp_;
   unsigned search_ = 0;
+  std::vector<double> cover_distance_;  // the same for the covering search
+  std::vector<std::size_t> cover_parent_;
+  std::vector<unsigned> cover_stamp_;
 };
 
 void NetworkTracer::build_domain_rings() {
@@ -177,6 +201,7 @@ std::vector<char> NetworkTracer::allowed_ring(int i, int j) {
 // A* (Euclidean heuristic) from feature a to feature b of domain edge e,
 // through free vertices only, leaving and entering in the right sectors.
 std::optional<Candidate> NetworkTracer::shortest_path(int e) {
+  if (!torus_points_.empty()) return shortest_path_in_class(e);
   const auto [a, b] = domain_edges_[e];
   const VH source(features_[a]), target(features_[b]);
   const std::vector<char> leave = allowed_ring(a, b), enter = allowed_ring(b, a);
@@ -221,8 +246,99 @@ std::optional<Candidate> NetworkTracer::shortest_path(int e) {
   }
   if (stamp_[target.idx()] != search_) return std::nullopt;
   Candidate c{distance_[target.idx()], e, {}};
+  // Paths at the surface's extremities go first (paper §4, swirls).
+  c.priority = swirl_heuristics_ && (extremity_[a] || extremity_[b]) ? 0.5 * c.length : c.length;
   for (int v = target.idx(); v >= 0; v = parent_[v]) c.vertices.push_back(v);
   std::reverse(c.vertices.begin(), c.vertices.end());
+  return c;
+}
+
+// The shortest displacement between two torus points (each coordinate in
+// [-1/2, 1/2)).
+Eigen::Vector2d torus_step(const Eigen::Vector2d& from, const Eigen::Vector2d& to) {
+  const Eigen::Vector2d d = to - from;
+  return (d.array() - (d.array() + 0.5).floor()).matrix();
+}
+
+// A* in the covering plane of the torus guide: a state is a surface vertex
+// together with the lattice cell its lift is in (a small window around the
+// start), so the search finds the shortest path of the wanted homotopy class
+// even when a path winding around a thin handle is shorter.
+std::optional<Candidate> NetworkTracer::shortest_path_in_class(int e) {
+  constexpr int reach = 2, side = 2 * reach + 1, cells = side * side;
+  const auto [a, b] = domain_edges_[e];
+  const VH source(features_[a]), target(features_[b]);
+  const std::vector<char> leave = allowed_ring(a, b), enter = allowed_ring(b, a);
+  // Lift of the target: the source's point plus the domain edge's step.
+  const Eigen::Vector2d goal_lift =
+      torus_points_[source.idx()] + torus_step(domain_torus_points_[a], domain_torus_points_[b]);
+  const Eigen::Vector2d goal_cell = (goal_lift - torus_points_[target.idx()]).array().round();
+  if (goal_cell.cwiseAbs().maxCoeff() > reach) return std::nullopt;
+  auto state = [&](int v, int cx, int cy) {
+    return std::size_t(v) * cells + std::size_t((cx + reach) * side + (cy + reach));
+  };
+  const std::size_t goal_state = state(target.idx(), int(goal_cell.x()), int(goal_cell.y()));
+
+  const std::size_t n = mesh_.n_vertices() * cells;
+  if (cover_distance_.size() < n) {
+    cover_distance_.resize(n);
+    cover_parent_.resize(n);
+    cover_stamp_.resize(n, 0);
+  }
+  ++search_;
+  const auto& goal = mesh_.point(target);
+  auto heuristic = [&](VH v) { return (mesh_.point(v) - goal).norm(); };
+  using Item = std::pair<double, std::size_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  const std::size_t start = state(source.idx(), 0, 0);
+  cover_stamp_[start] = search_;
+  cover_distance_[start] = 0.0;
+  cover_parent_[start] = SIZE_MAX;
+  open.push({heuristic(source), start});
+  while (!open.empty()) {
+    const auto [key, si] = open.top();
+    open.pop();
+    const VH v(int(si / cells));
+    const int cell = int(si % cells), cx = cell / side - reach, cy = cell % side - reach;
+    const double dv = cover_distance_[si];
+    if (key > dv + heuristic(v) + 1e-12 * (1 + key)) continue;  // stale entry
+    if (si == goal_state) break;
+    if (v == target) continue;  // the target in another cell: a wrong class
+    const Eigen::Vector2d& pv = torus_points_[v.idx()];
+    for (VH w : mesh_.vv_range(v)) {
+      const int wi = w.idx();
+      if (v == source && !leave[wi]) continue;
+      if (w == target) {
+        if (!enter[v.idx()]) continue;
+      } else if (on_network_[wi]) {
+        continue;
+      }
+      // The lift moves by the short step; it changes cell where it wraps.
+      const Eigen::Vector2d& pw = torus_points_[wi];
+      const Eigen::Vector2d jump = (pv + torus_step(pv, pw) - pw).array().round();
+      const int wx = cx + int(jump.x()), wy = cy + int(jump.y());
+      if (std::abs(wx) > reach || std::abs(wy) > reach) continue;
+      const std::size_t sw = state(wi, wx, wy);
+      const double dw = dv + (mesh_.point(w) - mesh_.point(v)).norm();
+      if (cover_stamp_[sw] != search_ || dw < cover_distance_[sw]) {
+        cover_stamp_[sw] = search_;
+        cover_distance_[sw] = dw;
+        cover_parent_[sw] = si;
+        open.push({dw + heuristic(w), sw});
+      }
+    }
+  }
+  if (cover_stamp_[goal_state] != search_) return std::nullopt;
+  Candidate c{cover_distance_[goal_state], e, {}};
+  c.priority = c.length;
+  for (std::size_t si = goal_state; si != SIZE_MAX; si = cover_parent_[si])
+    c.vertices.push_back(int(si / cells));
+  std::reverse(c.vertices.begin(), c.vertices.end());
+  // A path through one vertex twice (in two cells) is no simple path.
+  std::vector<int> sorted = c.vertices;
+  std::sort(sorted.begin(), sorted.end());
+  if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return std::nullopt;
+  c.side_checked = true;  // the class is exact: no side heuristic needed
   return c;
 }
 
@@ -233,6 +349,96 @@ bool NetworkTracer::still_valid(const Candidate& c) {
     if (!mesh_.find_halfedge(VH(c.vertices[k - 1]), VH(c.vertices[k])).is_valid()) return false;
   const auto [a, b] = domain_edges_[c.edge];
   return allowed_ring(a, b)[c.vertices[1]] && allowed_ring(b, a)[c.vertices[c.vertices.size() - 2]];
+}
+
+// Features whose mean distance to their (up to) 8 nearest features is among
+// the largest quarter: the tips of the surface, connected early so that
+// later paths do not wind around them.
+void NetworkTracer::find_extremities() {
+  const std::size_t n = features_.size();
+  extremity_.assign(n, 0);
+  if (n < 4) return;
+  std::vector<double> spread(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<double> d;
+    for (std::size_t j = 0; j < n; ++j)
+      if (j != i)
+        d.push_back((mesh_.point(VH(features_[i])) - mesh_.point(VH(features_[j]))).norm());
+    const std::size_t k = std::min<std::size_t>(8, d.size());
+    std::partial_sort(d.begin(), d.begin() + k, d.end());
+    spread[i] = std::accumulate(d.begin(), d.begin() + k, 0.0) / double(k);
+  }
+  std::vector<double> sorted = spread;
+  std::sort(sorted.begin(), sorted.end());
+  const double threshold = sorted[n - std::max<std::size_t>(1, n / 4)];
+  for (std::size_t i = 0; i < n; ++i) extremity_[i] = spread[i] >= threshold;
+}
+
+// Which side of `path` (vertices from its first to its last feature) the
+// feature lies on: +1 left, -1 right (seen from outside the surface), 0 when
+// its shortest route meets the path only at an end. The route ignores the
+// network: sides are local to where it meets the path.
+int NetworkTracer::side_of(const std::vector<int>& path, int feature) {
+  const std::size_t n = mesh_.n_vertices();
+  if (distance_.size() < n) {
+    distance_.resize(n);
+    parent_.resize(n);
+    stamp_.resize(n, 0);
+  }
+  std::map<int, std::size_t> index;  // interior path vertex -> its position
+  for (std::size_t k = 1; k + 1 < path.size(); ++k) index[path[k]] = k;
+  if (index.empty()) return 0;
+  ++search_;
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  stamp_[feature] = search_;
+  distance_[feature] = 0.0;
+  parent_[feature] = -1;
+  open.push({0.0, feature});
+  while (!open.empty()) {
+    const auto [dv, vi] = open.top();
+    open.pop();
+    if (dv > distance_[vi]) continue;
+    if (const auto it = index.find(vi); it != index.end()) {
+      const int from = parent_[vi];
+      const VH p(vi), next(path[it->second + 1]), prev(path[it->second - 1]);
+      // Counter-clockwise from the next path vertex, the left side comes
+      // before the previous one.
+      HH h = mesh_.find_halfedge(p, next);
+      for (h = mesh_.ccw_rotated_halfedge_handle(h); mesh_.to_vertex_handle(h) != prev;
+           h = mesh_.ccw_rotated_halfedge_handle(h))
+        if (mesh_.to_vertex_handle(h).idx() == from) return +1;
+      return -1;
+    }
+    if (vi == path.front() || vi == path.back()) continue;  // around the ends: no side
+    const VH v(vi);
+    for (VH w : mesh_.vv_range(v)) {
+      const int wi = w.idx();
+      const double dw = dv + (mesh_.point(w) - mesh_.point(v)).norm();
+      if (stamp_[wi] != search_ || dw < distance_[wi]) {
+        stamp_[wi] = search_;
+        distance_[wi] = dw;
+        parent_[wi] = vi;
+        open.push({dw, wi});
+      }
+    }
+  }
+  return 0;
+}
+
+// The path of domain edge (a, b) should have the third corner of the domain
+// face left of a -> b on its left and that of the face on the right on its
+// right (Praun et al. 2001); a path that does not is likely a swirl.
+bool NetworkTracer::on_wrong_side(const Candidate& c) {
+  const auto [a, b] = domain_edges_[c.edge];
+  const auto& ring = ring_[a];
+  const int n = int(ring.size());
+  const int k = int(std::find(ring.begin(), ring.end(), b) - ring.begin());
+  const int left = ring[(k + 1) % n], right = ring[(k + n - 1) % n];
+  if (left != b && left != a && side_of(c.vertices, features_[left]) < 0) return true;
+  if (right != b && right != a && right != left && side_of(c.vertices, features_[right]) > 0)
+    return true;
+  return false;
 }
 
 int NetworkTracer::count_regions() const {
@@ -286,6 +492,11 @@ void NetworkTracer::split_edges_between_network_vertices() {
     const VH m = mesh_.add_vertex((mesh_.point(a) + mesh_.point(b)) * 0.5);
     mesh_.split(e, m);
     on_network_.push_back(0);
+    if (!torus_points_.empty()) {
+      const Eigen::Vector2d& pa = torus_points_[a.idx()];
+      const Eigen::Vector2d mid = pa + 0.5 * torus_step(pa, torus_points_[b.idx()]);
+      torus_points_.push_back((mid.array() - mid.array().floor()).matrix());
+    }
   }
 }
 
@@ -320,6 +531,16 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
         else
           deferred.push_back(c.edge);
         continue;
+      }
+      // A path on the wrong side of a neighbouring feature waits until only
+      // such paths are left (paper §4, swirls).
+      if (swirl_heuristics_ && !c.side_checked) {
+        c.side_checked = true;
+        c.wrong_side = on_wrong_side(c);
+        if (c.wrong_side) {
+          queue.push(std::move(c));
+          continue;
+        }
       }
       insert(c);
       const int expected =
@@ -429,7 +650,12 @@ PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& 
   if (chi_surface != chi_domain)
     throw PartitionError("the surface has genus " + std::to_string((2 - chi_surface) / 2) +
                          ", the domain genus " + std::to_string((2 - chi_domain) / 2));
-  NetworkTracer tracer(surface, domain, features);
+  if (!options.surface_torus_points.empty() &&
+      (options.surface_torus_points.size() != surface.n_vertices() ||
+       options.domain_torus_points.size() != domain.n_vertices()))
+    throw std::invalid_argument(
+        "trace_path_network: a torus guide needs one point per surface and per domain vertex");
+  NetworkTracer tracer(surface, domain, features, options);
   PathNetwork network = tracer.run(options.progress);
   if (auto problem = validate_network(network, domain))
     throw PartitionError("the traced network is invalid: " + *problem);

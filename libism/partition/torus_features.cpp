@@ -587,6 +587,8 @@ class SpreadMeter {
 struct Candidate {
   std::vector<int> features;
   double spread = 0.0;
+  Eigen::Matrix2d frame;  // the torus map's coordinates the lattice was laid in
+  bool mirrored = false;
 };
 
 const Eigen::Matrix2d kIdentity{{1, 0}, {0, 1}};
@@ -603,11 +605,14 @@ std::vector<Candidate> torus_candidates(const TriangleMesh& surface, const Torus
                                         bool mirrored, const SpreadMeter& spread) {
   std::vector<Candidate> candidates;
   std::set<std::vector<int>> seen;
+  Eigen::Matrix2d transform;
   auto add = [&](std::vector<int> features) {
-    if (seen.insert(features).second) candidates.push_back({std::move(features)});
+    if (seen.insert(features).second)
+      candidates.push_back({std::move(features), 0.0, transform, mirrored});
   };
   for (const Eigen::Matrix2d& a : {kIdentity, kExchange}) {
-    const TorusMap frame = map.transformed(mirrored ? Eigen::Matrix2d(kMirror * a) : a);
+    transform = mirrored ? Eigen::Matrix2d(kMirror * a) : a;
+    const TorusMap frame = map.transformed(transform);
     for (int i = 0; i < 9; ++i) {
       const double offset_s = (i % 3) / 3.0, offset_t = (i / 3) / 3.0;
       add(row_features(surface, frame, offset_s, offset_t));
@@ -627,6 +632,32 @@ constexpr double kSpreadTolerance = 1.05;
 constexpr int kMaxValid = 6;
 // Bounds the time spent on surfaces where the tracer keeps failing.
 constexpr int kMaxTraced = 32;
+
+// Points of the surface on the flat torus for the homotopy guide of
+// trace_path_network: the torus map in the frame the features were laid in,
+// each axis re-spaced by area. Re-spacing is a monotone map of each circle,
+// so the homotopy classes are the torus map's, but the features come close
+// to the grid points even where the conformal map squeezes the surface into
+// a sliver (all of a teapot's body sits within 0.05 of one point of it).
+std::vector<Eigen::Vector2d> guide_points(const TriangleMesh& surface, const TorusMap& map,
+                                          const Eigen::Matrix2d& frame) {
+  const TorusMap framed = map.transformed(frame);
+  const Remap s = axis_spacing(surface, framed, 0, Spacing::kArea),
+              t = axis_spacing(surface, framed, 1, Spacing::kArea);
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(framed.coords.size());
+  for (const Eigen::Vector2d& c : framed.coords)
+    points.emplace_back(s.forward(c.x()), t.forward(c.y()));
+  return points;
+}
+
+PartitionOptions guided(const PartitionOptions& options, std::vector<Eigen::Vector2d> points,
+                        const TriangleMesh& domain) {
+  PartitionOptions out = options;
+  out.surface_torus_points = std::move(points);
+  for (const Vec3& p : domain.positions) out.domain_torus_points.emplace_back(p.x(), p.y());
+  return out;
+}
 
 }  // namespace
 
@@ -661,7 +692,9 @@ PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOpti
       if (traced++ == budget) break;
       ++attempt;
       try {
-        PathNetwork network = trace_path_network(surface, domain, c.features, step);
+        PathNetwork network = trace_path_network(
+            surface, domain, c.features,
+            c.mirrored ? step : guided(step, guide_points(surface, map, c.frame), domain));
         if (!valid++) best_spread = c.spread;
         if (!best || network.total_length() < best->total_length()) best = std::move(network);
       } catch (const PartitionError& e) {
@@ -675,6 +708,41 @@ PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOpti
   }
   throw PartitionError("no 3x3 torus path network found (" + std::to_string(attempt) +
                        " feature sets tried); the last error: " + last_error);
+}
+
+PathNetwork trace_torus_network(const TriangleMesh& surface, const std::vector<int>& features,
+                                const PartitionOptions& options) {
+  const TriangleMesh domain = domain::torus_3x3();
+  if (features.size() != domain.n_vertices())
+    throw PartitionError(std::to_string(features.size()) +
+                         " features given, the 3x3 torus has 9 vertices");
+  for (std::size_t i = 0; i < features.size(); ++i)
+    if (features[i] < 0 || std::size_t(features[i]) >= surface.n_vertices())
+      throw PartitionError("feature " + std::to_string(i) + ": vertex index " +
+                           std::to_string(features[i]) + " out of range (the surface has " +
+                           std::to_string(surface.n_vertices()) + " vertices)");
+  const TorusMap map = harmonic_torus_map(surface);
+  // Of the four orientation-preserving frames (rows and columns along the
+  // reduced lattice directions), the one and the translation in which the
+  // features sit closest to the grid points.
+  std::vector<Eigen::Vector2d> best_points;
+  double best_error = INFINITY;
+  for (const Eigen::Matrix2d& frame :
+       {kIdentity, kExchange, Eigen::Matrix2d(-kIdentity), Eigen::Matrix2d(-kExchange)}) {
+    std::vector<Eigen::Vector2d> points = guide_points(surface, map, frame);
+    std::vector<Eigen::Vector2d> offsets;  // feature point minus grid point
+    for (std::size_t i = 0; i < features.size(); ++i)
+      offsets.push_back(points[features[i]] -
+                        Eigen::Vector2d(domain.positions[i].x(), domain.positions[i].y()));
+    for (const Eigen::Vector2d& shift : offsets) {
+      double error = 0;
+      for (const Eigen::Vector2d& o : offsets)
+        error += Eigen::Vector2d(wrap(o.x() - shift.x()), wrap(o.y() - shift.y())).squaredNorm();
+      if (error < best_error) best_error = error, best_points = points;
+    }
+  }
+  return trace_path_network(surface, domain, features,
+                            guided(options, std::move(best_points), domain));
 }
 
 }  // namespace ism

@@ -28,4 +28,13 @@ std::vector<int> choose_torus_features(const TriangleMesh& surface);
 /// surface is not closed genus-1 or no candidate gives a valid network.
 PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOptions& options = {});
 
+/// Traces the torus network between given features (row-major in the 3×3
+/// grid), each path in the homotopy class of a harmonic map of the surface
+/// to the flat torus, laid so that the features sit closest to the grid
+/// points (the lattice basis change with entries in -1..1 and determinant 1
+/// that fits best). Throws PartitionError for a wrong count, bad indices, a
+/// surface that is not closed genus 1, or an order that cannot be realised.
+PathNetwork trace_torus_network(const TriangleMesh& surface, const std::vector<int>& features,
+                                const PartitionOptions& options = {});
+
 }  // namespace ism

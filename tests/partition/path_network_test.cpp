@@ -6,6 +6,7 @@
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
 
@@ -53,6 +54,9 @@ TEST(OctahedralNetwork, EveryClosedGenusZeroSharedModel) {
   }
 }
 
+// A grid and its transpose have opposite orientations: exactly one of them
+// agrees with the surface's, and only that one can be traced in the harmonic
+// map's homotopy class (torus.obj's file lists its grid mirrored).
 TEST(TorusNetwork, SharedFeatureFilesGiveEighteenDiscs) {
   ISM_REQUIRE_SHARED_MODELS();
   for (const char* name : {"torus", "teapot", "rocker_arm"}) {
@@ -61,9 +65,22 @@ TEST(TorusNetwork, SharedFeatureFilesGiveEighteenDiscs) {
     const auto file = test::shared_models_dir() / (std::string(name) + "_features_3x3.txt");
     const auto features =
         io::resolve_features(io::read_feature_file(file), surface, 3, file.string());
-    const PathNetwork net = trace_path_network(surface, domain::torus_3x3(), features);
-    EXPECT_EQ(validate_network(net, domain::torus_3x3()), std::nullopt);
-    EXPECT_EQ(std::set<int>(net.face_patch.begin(), net.face_patch.end()).size(), 18u);
+    std::vector<int> transposed(9);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col) transposed[3 * col + row] = features[3 * row + col];
+    int traced = 0;
+    for (const auto& grid : {features, transposed}) {
+      try {
+        const PathNetwork net = trace_torus_network(surface, grid);
+        ++traced;
+        EXPECT_EQ(validate_network(net, domain::torus_3x3()), std::nullopt);
+        EXPECT_EQ(std::set<int>(net.face_patch.begin(), net.face_patch.end()).size(), 18u);
+        EXPECT_EQ(net.features, grid);
+      } catch (const PartitionError& e) {
+        EXPECT_NE(std::string(e.what()).find("cannot be realised"), std::string::npos) << e.what();
+      }
+    }
+    EXPECT_EQ(traced, 1);
   }
 }
 
@@ -100,6 +117,24 @@ TEST(PathNetwork, FeatureFileErrorsNameTheLine) {
     FAIL() << "no error";
   } catch (const io::FileError& e) {
     EXPECT_EQ(std::string(e.what()), file.string() + ":3: 'x' is not a number");
+  }
+}
+
+}  // namespace
+}  // namespace ism
+
+namespace ism {
+namespace {
+
+// The swirl heuristics change the order of the paths, never the validity.
+TEST(PathNetwork, SwirlHeuristicsGiveValidNetworks) {
+  const TriangleMesh octahedron = domain::octahedron();
+  for (const TriangleMesh& surface : {shapes::blob(3000, 5, 0.4), shapes::sphere(1280)}) {
+    const std::vector<int> features = trace_octahedral_network(surface).features;
+    const PathNetwork net =
+        trace_path_network(surface, octahedron, features, {.swirl_heuristics = true});
+    EXPECT_EQ(validate_network(net, octahedron), std::nullopt);
+    EXPECT_EQ(net.features, features);
   }
 }
 
