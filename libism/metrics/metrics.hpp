@@ -119,6 +119,15 @@ double symmetric_piece_energy(const StretchPiece& piece, double area_domain_tota
                               double area_range_total);
 
 // ---------------------------------------------------------------------------
+// Folds.
+
+/// Number of faces whose normal has a negative dot product with the sum of
+/// the area-weighted normals of all faces sharing a vertex with it (itself
+/// included): faces folded over their neighbours. Zero-area faces are never
+/// flipped. The count Praun & Hoppe report for geometry images.
+std::size_t flipped_faces(const TriangleMesh& mesh);
+
+// ---------------------------------------------------------------------------
 // Surface distance (Hoppe's MeshDistance definition of PSNR).
 
 struct SurfaceDistanceOptions {

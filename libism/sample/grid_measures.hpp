@@ -26,9 +26,4 @@ double grid_efficiency(
     int rows, const std::function<void(int row, std::vector<StretchPiece>& out)>& pieces_of_row,
     const char* caller);
 
-/// Number of faces whose normal has a negative dot product with the sum of
-/// the area-weighted normals of all faces sharing a vertex with it (itself
-/// included). Zero-area faces are never flipped.
-std::size_t count_flipped_faces(const TriangleMesh& mesh);
-
 }  // namespace ism::detail

@@ -240,7 +240,7 @@ double image_efficiency(const GeometryImage& image, ImageDomain domain) {
 }
 
 std::size_t flipped_triangles(const GeometryImage& image) {
-  return detail::count_flipped_faces(image_to_mesh(image));
+  return flipped_faces(image_to_mesh(image));
 }
 
 }  // namespace ism

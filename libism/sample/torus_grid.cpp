@@ -143,7 +143,7 @@ double torus_grid_efficiency(const TorusGrid& grid) {
 }
 
 std::size_t torus_grid_flipped_triangles(const TorusGrid& grid) {
-  return detail::count_flipped_faces(triangulate(torus_grid_mesh(grid)));
+  return flipped_faces(triangulate(torus_grid_mesh(grid)));
 }
 
 }  // namespace ism

@@ -4,6 +4,7 @@
 // unsuitable bases.
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
+#include "metrics/metrics.hpp"
 #include "sample/semiregular.hpp"
 #include "test_support.hpp"
 #include "tools_support.hpp"
@@ -56,6 +57,8 @@ void expect_semiregular(const fs::path& remesh, const fs::path& base, int levels
   EXPECT_EQ(c.welded_vertices, 0u);
   EXPECT_EQ(c.reoriented_faces, 0u);
   EXPECT_FALSE(c.flipped_inward);
+  // No triangle folded over its neighbours.
+  if (remesh.extension() != ".drc") EXPECT_EQ(ism::flipped_faces(read_triangles(remesh)), 0u);
 }
 
 TEST(Semireg, GeneratedBlobHasExactSubdivisionConnectivity) {

@@ -264,11 +264,14 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();
+  const std::size_t flipped = flipped_faces(remesh);
+  sj["flipped_triangles"] = flipped;
   r["distance"] = distance_report(distance);
   run.note(o.output + ": " + std::to_string(remesh.n_faces()) + " faces (" +
            std::to_string(base.n_faces()) + " base faces, level " + std::to_string(o.levels) +
            "); map efficiency " + fixed(m.forward_efficiency, 3) + " (symmetric " +
-           fixed(m.symmetric_efficiency, 3) + "), PSNR " + fixed(distance.psnr_db, 1) + " dB");
+           fixed(m.symmetric_efficiency, 3) + "), " + std::to_string(flipped) +
+           " flipped triangles, PSNR " + fixed(distance.psnr_db, 1) + " dB");
   run.finish();
   return 0;
 }
