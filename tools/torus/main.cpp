@@ -14,7 +14,6 @@
 #include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "partition/torus_features.hpp"
-#include "pm/pm.hpp"
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
