@@ -90,13 +90,14 @@ std::vector<int> transposed(const std::vector<int>& features) {
   return out;
 }
 
-// Candidate path networks: automatic, or from the user's nine features. A
-// feature grid oriented against the domain (its rows and columns swapped
-// with respect to the surface's orientation) can only be realised by a
-// twisted network, whose maps stay far from the best map whatever the
-// optimisation does; so the transposed grid is traced too and the coarse
-// maps decide (choose_network). Without any valid network the error of the
-// grid as given is reported.
+// Candidate path networks, each in the homotopy class of the surface's
+// harmonic map to the flat torus (trace_torus_network): automatic, or from
+// the user's nine features. A feature grid oriented against the domain (its
+// rows and columns swapped with respect to the surface's orientation) has
+// no network in that class, and elsewhere only twisted ones whose maps stay
+// far from the best, so the transposed grid is traced too and, when both
+// can be, the coarse maps decide (choose_network). Without any network the
+// error of the grid as given is reported.
 struct Candidates {
   std::vector<PathNetwork> networks;
   std::vector<int> given_features;  // empty for automatic features
@@ -120,7 +121,7 @@ Candidates torus_networks(tool::Run& run, const Options& o, const TriangleMesh& 
     std::optional<PartitionError> first_error;
     for (const auto& grid : {c.given_features, transposed(c.given_features)}) {
       try {
-        c.networks.push_back(trace_path_network(surface, torus, grid, options));
+        c.networks.push_back(trace_torus_network(surface, grid, options));
       } catch (const PartitionError& e) {
         if (!first_error) first_error = e;
       }
