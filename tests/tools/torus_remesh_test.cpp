@@ -156,9 +156,9 @@ TEST(TorusRemesh, SharedTorusGivenFeatures) {
 TEST(TorusRemesh, SharedRockerArmGivenFeatures) {
   remesh_shared_model("rocker_arm", true, true);
 }
-// teapot, mug and cup keep flipped grid triangles at every grid size (their
-// maps are far from the paper's quality; docs/results-torus.md has the
-// numbers), so only the topology of their grids is asserted.
+// teapot, mug and cup keep flipped grid triangles where their maps are
+// strongly distorted (docs/results-torus.md has the numbers), so only the
+// topology of their grids is asserted.
 TEST(TorusRemesh, SharedTeapotAutomatic) {
   remesh_shared_model("teapot", false, false);
 }
