@@ -1,28 +1,42 @@
 #include "refine/network_choice.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <stdexcept>
+#include <thread>
 
 namespace ism {
 namespace {
 
 // Builds every candidate's map, refines it to `coarse_vertices` and keeps the
-// lowest symmetric energy; a single candidate is returned unrefined.
+// lowest symmetric energy (the first of equals); a single candidate is
+// returned unrefined. Candidates are independent, so they run in parallel,
+// as many at a time as there are cores (each holds a copy of the surface).
 template <class MakeSetup>
 std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
                                  std::size_t coarse_vertices) {
-  std::unique_ptr<MapSetup> best;
-  double best_energy = 0;
+  if (count == 1) return make_setup(0);
   RefineOptions coarse;
   coarse.stop_at_vertices = coarse_vertices;
-  for (std::size_t i = 0; i < count; ++i) {
-    std::unique_ptr<MapSetup> setup = make_setup(i);
-    setup->candidate = i;
-    if (count == 1) return setup;
-    refine(*setup->map, coarse);
-    const double energy = setup->map->energy();
-    if (!best || energy < best_energy) {
-      best = std::move(setup);
-      best_energy = energy;
+  const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
+  std::unique_ptr<MapSetup> best;
+  double best_energy = 0;
+  for (std::size_t first = 0; first < count; first += batch) {
+    const std::size_t last = std::min(count, first + batch);
+    std::vector<std::unique_ptr<MapSetup>> setups(last - first);
+    tbb::parallel_for(first, last, [&](std::size_t i) {
+      std::unique_ptr<MapSetup> setup = make_setup(i);
+      setup->candidate = i;
+      refine(*setup->map, coarse);
+      setups[i - first] = std::move(setup);
+    });
+    for (std::unique_ptr<MapSetup>& setup : setups) {
+      const double energy = setup->map->energy();
+      if (!best || energy < best_energy) {
+        best = std::move(setup);
+        best_energy = energy;
+      }
     }
   }
   return best;

@@ -17,8 +17,11 @@
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 #include <utility>
 
@@ -178,23 +181,31 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     bases = decimated_bases(run, o, surface);
   }
 
+  // Each base traced on its own core; progress follows the first.
   tool::Progress& partition_progress = run.stage("partition");
+  std::vector<std::optional<PathNetwork>> networks(bases.size());
+  std::vector<std::string> errors(bases.size());
+  tbb::parallel_for(std::size_t(0), bases.size(), [&](std::size_t i) {
+    PartitionOptions options;
+    if (i == 0) options.progress = [&](double f) { partition_progress.update(f); };
+    try {
+      networks[i] = trace_path_network(surface, bases[i].mesh, bases[i].features, options);
+    } catch (const PartitionError& e) {
+      errors[i] = e.what();
+    }
+  });
   std::vector<DomainCandidate> candidates;
   std::vector<std::size_t> candidate_base;
   std::string first_error;
   for (std::size_t i = 0; i < bases.size(); ++i) {
-    try {
-      PathNetwork network =
-          trace_path_network(surface, bases[i].mesh, bases[i].features, {.progress = [&](double f) {
-                               partition_progress.update((double(i) + f) / double(bases.size()));
-                             }});
-      candidates.push_back(
-          {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
-           std::move(network)});
-      candidate_base.push_back(i);
-    } catch (const PartitionError& e) {
-      if (first_error.empty()) first_error = e.what();
+    if (!networks[i]) {
+      if (first_error.empty()) first_error = errors[i];
+      continue;
     }
+    candidates.push_back(
+        {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
+         std::move(*networks[i])});
+    candidate_base.push_back(i);
   }
   if (candidates.empty()) throw tool::Failure(o.input + ": " + first_error);
 
