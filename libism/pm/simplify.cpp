@@ -269,25 +269,33 @@ class Simplifier {
            link_condition(vs, vt, vl, vr);
   }
 
-  /// No face that survives turns by more than 90 degrees or degenerates.
-  bool keeps_normals(int vs, int vt) const {
-    const Vec3& ps = positions_[vs];
-    const Vec3& pt = positions_[vt];
+  /// Calls fn(a, b) for the faces (vs, a, b) that survive the collapse
+  /// vs -> vt (those without vt), in their counter-clockwise order; stops
+  /// early when fn returns false.
+  template <class Fn>
+  bool for_each_surviving_face(int vs, int vt, const Fn& fn) const {
     for (int f : vertex_faces_[vs]) {
       const Triangle& t = faces_[f];
       if (contains(t, vt)) continue;
       const int k = corner_of(t, vs);
-      const Vec3& a = positions_[t[(k + 1) % 3]];
-      const Vec3& b = positions_[t[(k + 2) % 3]];
+      if (!fn(positions_[t[(k + 1) % 3]], positions_[t[(k + 2) % 3]])) return false;
+    }
+    return true;
+  }
+
+  /// No face that survives turns by more than 90 degrees or degenerates.
+  bool keeps_normals(int vs, int vt) const {
+    const Vec3& ps = positions_[vs];
+    const Vec3& pt = positions_[vt];
+    return for_each_surviving_face(vs, vt, [&](const Vec3& a, const Vec3& b) {
       const Vec3 before = (a - ps).cross(b - ps);
       const Vec3 after = (a - pt).cross(b - pt);
       if (before.dot(after) < 0.0) return false;
       // Degenerate: sine of the angle at pt (or worse) below ~1e-10.
       const double longest =
           std::max({(a - pt).squaredNorm(), (b - pt).squaredNorm(), (a - b).squaredNorm()});
-      if (after.squaredNorm() <= 1e-20 * longest * longest) return false;
-    }
-    return true;
+      return after.squaredNorm() > 1e-20 * longest * longest;
+    });
   }
 
   /// Smallest shape quality 4√3·area/Σ|edge|² (1 equilateral, 0 degenerate)
@@ -295,17 +303,13 @@ class Simplifier {
   double quality_after(int vs, int vt) const {
     const Vec3& pt = positions_[vt];
     double worst = 1.0;
-    for (int f : vertex_faces_[vs]) {
-      const Triangle& t = faces_[f];
-      if (contains(t, vt)) continue;
-      const int k = corner_of(t, vs);
-      const Vec3& a = positions_[t[(k + 1) % 3]];
-      const Vec3& b = positions_[t[(k + 2) % 3]];
+    for_each_surviving_face(vs, vt, [&](const Vec3& a, const Vec3& b) {
       const double twice_area = (a - pt).cross(b - pt).norm();
       const double lengths =
           (a - pt).squaredNorm() + (b - pt).squaredNorm() + (a - b).squaredNorm();
       worst = std::min(worst, lengths > 0 ? 2.0 * std::sqrt(3.0) * twice_area / lengths : 0.0);
-    }
+      return true;
+    });
     return worst;
   }
 
