@@ -90,6 +90,14 @@ PathNetwork trace_octahedral_network(const TriangleMesh& surface,
 std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
                                                    const PartitionOptions& options = {});
 
+/// A base mesh on given surface vertices (sites) with free connectivity:
+/// the dual of the sites' geodesic Voronoi regions (Dijkstra over the
+/// surface's edges), each dual triangle oriented like the surface. Vertex i
+/// is sites[i] at its position. Throws PartitionError for a bad or repeated
+/// site, or when the dual is not a closed manifold of the surface's genus
+/// (sites too sparse for the shape, or unevenly spread).
+TriangleMesh delaunay_base(const TriangleMesh& surface, const std::vector<int>& sites);
+
 /// Checks a network: every patch a disc bounded by the three paths of its
 /// domain face with the same orientation, paths disjoint but at features.
 /// Returns the first problem found, or nothing.

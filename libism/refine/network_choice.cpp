@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <exception>
 #include <stdexcept>
 #include <thread>
 
@@ -11,8 +12,10 @@ namespace {
 
 // Builds every candidate's map, refines it to `coarse_vertices` and keeps the
 // lowest symmetric energy (the first of equals); a single candidate is
-// returned unrefined. Candidates are independent, so they run in parallel,
-// as many at a time as there are cores (each holds a copy of the surface).
+// returned unrefined. A candidate whose map fails (a split the map core
+// cannot place) drops out; when all fail, the first failure is rethrown.
+// Candidates are independent, so they run in parallel, as many at a time as
+// there are cores (each holds a copy of the surface).
 template <class MakeSetup>
 std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
                                  std::size_t coarse_vertices) {
@@ -22,23 +25,34 @@ std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
   const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
   std::unique_ptr<MapSetup> best;
   double best_energy = 0;
+  std::exception_ptr first_failure;
   for (std::size_t first = 0; first < count; first += batch) {
     const std::size_t last = std::min(count, first + batch);
     std::vector<std::unique_ptr<MapSetup>> setups(last - first);
+    std::vector<std::exception_ptr> failures(last - first);
     tbb::parallel_for(first, last, [&](std::size_t i) {
-      std::unique_ptr<MapSetup> setup = make_setup(i);
-      setup->candidate = i;
-      refine(*setup->map, coarse);
-      setups[i - first] = std::move(setup);
+      try {
+        std::unique_ptr<MapSetup> setup = make_setup(i);
+        setup->candidate = i;
+        refine(*setup->map, coarse);
+        setups[i - first] = std::move(setup);
+      } catch (const std::runtime_error&) {
+        failures[i - first] = std::current_exception();
+      }
     });
-    for (std::unique_ptr<MapSetup>& setup : setups) {
-      const double energy = setup->map->energy();
+    for (std::size_t k = 0; k < setups.size(); ++k) {
+      if (!setups[k]) {
+        if (!first_failure) first_failure = failures[k];
+        continue;
+      }
+      const double energy = setups[k]->map->energy();
       if (!best || energy < best_energy) {
-        best = std::move(setup);
+        best = std::move(setups[k]);
         best_energy = energy;
       }
     }
   }
+  if (!best) std::rethrow_exception(first_failure);
   return best;
 }
 

@@ -31,7 +31,9 @@ struct DomainCandidate {
 
 /// Builds a map per network (progressive mesh, trivial map), refines each to
 /// `coarse_vertices` and returns the lowest-energy one, refined to that
-/// level only (refine() it again to finish). `domain` must outlive the result.
+/// level only (refine() it again to finish). A candidate whose map throws
+/// std::runtime_error drops out; if all do, the first error is rethrown.
+/// `domain` must outlive the result.
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const DomainGeometry& domain, const MapOptions& options,
                                          std::size_t coarse_vertices = 1000);

@@ -109,6 +109,35 @@ TEST(Semireg, GeneratedBlobHasExactSubdivisionConnectivity) {
   EXPECT_GT(fs::file_size(drc), 100u);
 }
 
+// Base vertices alone (points, snapped): the connectivity comes from their
+// Voronoi regions, and the remesh has exact subdivision connectivity over it.
+TEST(Semireg, BaseVerticesWithoutFaces) {
+  const fs::path dir = scratch_dir("semireg");
+  const fs::path torus = dir / "free_torus.obj", first = dir / "free_first.obj",
+                 first_base = dir / "free_first_base.obj", points = dir / "free_points.txt",
+                 out = dir / "free_sr.obj", base = dir / "free_base.obj",
+                 report = dir / "free.json";
+  ASSERT_EQ(run_tool("ism-genmesh", "torus --faces 4000 -o " + torus.string()).status, 0);
+  ASSERT_EQ(run_tool("semireg", torus.string() + " -o " + first.string() +
+                                    " --base-size 40 --levels 0 --write-base " +
+                                    first_base.string() + " -q")
+                .status,
+            0);
+  {
+    std::ofstream f(points);
+    f << "# x y z of the base vertices\n";
+    for (const auto& p : read_triangles(first_base).positions)
+      f << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  }
+  const auto r = run_tool("semireg", torus.string() + " --base-vertices " + points.string() +
+                                         " -o " + out.string() + " --levels 2 --write-base " +
+                                         base.string() + " --report " + report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_semiregular(out, base, 2, 1);
+  EXPECT_EQ(read_triangles(base).n_vertices(), 40u);
+  EXPECT_NE(slurp(report).find("\"geodesic Voronoi dual\""), std::string::npos);
+}
+
 TEST(Semireg, SharedModelsOfEveryGenus) {
   ISM_REQUIRE_SHARED_MODELS();
   const fs::path dir = scratch_dir("semireg");
@@ -166,14 +195,23 @@ TEST(Semireg, UnsuitableBasesAreRefusedWithoutOutput) {
   expect_refused(sphere.string() + " --base " + far.string(), out, far.string(),
                  "from the surface (limit ");
 
-  // Vertices only: free connectivity is not there yet.
+  // A mesh file with vertices only is pointed to --base-vertices; a vertex
+  // list too sparse for the surface is refused with the reason.
   {
     std::ofstream f(no_faces);
     for (const auto& p : moved.positions)
       f << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
   }
   expect_refused(sphere.string() + " --base " + no_faces.string(), out, no_faces.string(),
-                 "not supported yet");
+                 "--base-vertices");
+  const fs::path torus = dir / "torus_surface.obj", four = dir / "four_vertices.txt";
+  ASSERT_EQ(run_tool("ism-genmesh", "torus --faces 2000 -o " + torus.string()).status, 0);
+  {
+    std::ofstream f(four);
+    f << "# four vertex indices\n0\n250\n500\n750\n";
+  }
+  expect_refused(torus.string() + " --base-vertices " + four.string(), out, four.string(),
+                 "no triangulation of the 4 base vertices");
   expect_refused(sphere.string() + " --base " + (dir / "missing.obj").string(), out,
                  (dir / "missing.obj").string(), "");
 

@@ -5,6 +5,7 @@
 // equilateral) to the surface is optimised, and every base face is sampled on
 // the barycentric grid of 2^levels subdivisions (DESIGN.md §5).
 #include "io/draco_io.hpp"
+#include "io/features.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
 #include "metrics/metrics.hpp"
@@ -30,7 +31,7 @@ namespace {
 using namespace ism;
 
 struct Options {
-  std::string input, output, base, write_base, dump_patches;
+  std::string input, output, base, base_vertices, write_base, dump_patches;
   std::size_t base_size = 0;
   int levels = 4;
   bool hold_features = false;
@@ -59,8 +60,8 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Option
                                                     const TriangleMesh& surface) {
   const std::string no_faces =
       o.base +
-      ": the base has no faces; free base vertices (connectivity chosen by semireg) are "
-      "not supported yet, give a base mesh with faces";
+      ": the base has no faces; for base vertices alone (connectivity chosen by semireg) "
+      "list them with --base-vertices FILE (vertex indices or X Y Z points, one per line)";
   try {
     // The reader refuses a file without faces: say what that means here.
     if (io::read_polygon_soup(o.base).faces.empty()) throw tool::Failure(no_faces);
@@ -122,7 +123,8 @@ struct BaseCandidate {
 // Bases of about o.base_size vertices decimated from the surface: the
 // quadric error keeps the shape but leaves long triangles on flat parts;
 // isotropic priorities give even, well-shaped faces, more or less bent
-// towards valence 6.
+// towards valence 6. Each decimation's vertices also compete with the
+// connectivity of their Voronoi regions (delaunay_base) where that is valid.
 std::vector<BaseCandidate> decimated_bases(tool::Run& run, const Options& o,
                                            const TriangleMesh& surface) {
   const std::pair<const char*, SimplifyOptions> priorities[] = {
@@ -136,7 +138,7 @@ std::vector<BaseCandidate> decimated_bases(tool::Run& run, const Options& o,
       {"quadric", {.priority = SimplifyPriority::quadric}},
   };
   tool::Progress& progress = run.stage("base");
-  std::vector<BaseCandidate> bases;
+  std::vector<BaseCandidate> bases, dual_bases;
   const double n = double(std::size(priorities));
   for (const auto& [name, priority] : priorities) {
     SimplifyOptions options = priority;
@@ -152,21 +154,60 @@ std::vector<BaseCandidate> decimated_bases(tool::Run& run, const Options& o,
       run.note(o.input + ": the base has " + std::to_string(decimated.base_vertices.size()) +
                " vertices, not " + std::to_string(o.base_size) + " (no legal collapse left)");
     bases.push_back({name, base_mesh(decimated), decimated.base_vertices});
+    // The same vertices with the intrinsic connectivity of their Voronoi
+    // regions, when that is a valid base: often better shaped faces.
+    try {
+      TriangleMesh dual = delaunay_base(surface, decimated.base_vertices);
+      dual_bases.push_back(
+          {std::string(name) + ", Voronoi dual", std::move(dual), decimated.base_vertices});
+    } catch (const PartitionError&) {
+      // Too sparse for a disc per region here: the decimation alone competes.
+    }
   }
+  for (BaseCandidate& dual : dual_bases) bases.push_back(std::move(dual));
   Json& bj = run.report()["base"];
   bj["source"] = "decimation";
   bj["requested_vertices"] = o.base_size;
   return bases;
 }
 
+// Base vertices without faces: the connectivity is the dual of their
+// geodesic Voronoi regions on the surface (free connectivity).
+BaseCandidate vertex_base(tool::Run& run, const Options& o, const TriangleMesh& surface) {
+  run.stage("base");
+  std::vector<int> sites;
+  try {
+    const auto entries = io::read_feature_file(o.base_vertices);
+    sites = io::resolve_features(entries, surface, int(entries.size()), o.base_vertices);
+  } catch (const io::FileError& e) {
+    throw tool::Failure(e.what());
+  }
+  if (sites.size() < 4)
+    throw tool::Failure(o.base_vertices + ": " + std::to_string(sites.size()) +
+                        " base vertices, a base needs at least 4");
+  TriangleMesh base;
+  try {
+    base = delaunay_base(surface, sites);
+  } catch (const PartitionError& e) {
+    throw tool::Failure(o.base_vertices + ": " + e.what());
+  }
+  Json& bj = run.report()["base"];
+  bj["source"] = "vertices";
+  bj["file"] = o.base_vertices;
+  bj["connectivity"] = "geodesic Voronoi dual";
+  return {"vertices", std::move(base), std::move(sites)};
+}
+
 int run_semireg(const Options& o, const tool::CommonOptions& common) {
   tool::Run run("semireg", common);
   run.add_input(o.input);
   if (!o.base.empty()) run.add_input(o.base);
+  if (!o.base_vertices.empty()) run.add_input(o.base_vertices);
   for (const std::string& out : {o.output, o.write_base, o.dump_patches})
     if (!out.empty()) run.check_output(out);
-  if (o.base.empty() == (o.base_size == 0))
-    throw tool::Failure("semireg: give exactly one of --base BASE and --base-size N");
+  if (int(!o.base.empty()) + int(!o.base_vertices.empty()) + int(o.base_size != 0) != 1)
+    throw tool::Failure(
+        "semireg: give exactly one of --base BASE, --base-vertices FILE and --base-size N");
 
   const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
 
@@ -177,6 +218,8 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   if (!o.base.empty()) {
     auto [base, features] = user_base(run, o, surface);
     bases.push_back({"file", std::move(base), std::move(features)});
+  } else if (!o.base_vertices.empty()) {
+    bases.push_back(vertex_base(run, o, surface));
   } else {
     bases = decimated_bases(run, o, surface);
   }
@@ -304,8 +347,13 @@ int main(int argc, char** argv) {
   auto* size =
       app.add_option("--base-size", o.base_size, "Decimate the surface to a base of N vertices")
           ->check(CLI::Range(std::size_t(4), std::size_t(1) << 24));
-  base->excludes(size);
-  size->excludes(base);
+  auto* vertices = app.add_option(
+      "--base-vertices", o.base_vertices,
+      "Base vertices only (vertex indices or X Y Z points snapped to the surface, one per line); "
+      "the connectivity is the dual of their geodesic Voronoi regions");
+  base->excludes(size)->excludes(vertices);
+  size->excludes(base)->excludes(vertices);
+  vertices->excludes(base)->excludes(size);
   app.add_option("--levels", o.levels, "Subdivision levels of each base face (faces x 4^levels)")
       ->check(CLI::Range(0, 8));
   app.add_option("--write-base", o.write_base, "Write the base used, its vertices on the surface");
