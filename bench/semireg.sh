@@ -39,8 +39,9 @@ def load(tag):
 print(f"semireg, decimated bases (`--base-size`), equilateral base faces, features released; "
       f"{os.cpu_count()} cores ({platform.machine()}). Times in seconds, memory in MB (level-4 run).")
 print()
-print("Bases: four decimations (isotropic; isotropic with valences towards 6; isotropic with valences from curvature; quadric), "
-      "each partitioned and mapped to 5000 vertices, the lowest energy kept (`base` column). "
+print("Bases: four decimations (isotropic; isotropic with valences towards 6; isotropic with valences from curvature; quadric) "
+      "and, where valid, the same vertices connected by their Voronoi regions' dual; each partitioned and mapped to 5000 "
+      "vertices (two at a time), the lowest energy kept (`base` column). "
       "`map` includes the progressive meshes and the choice.")
 print()
 print("| model | genus | faces | base V / F | base | decimate | partition | map | total | peak MB | valid | one-way eff. | symmetric eff. | PSNR dB L4 | PSNR dB L5 | paper one-way eff. |")
