@@ -366,11 +366,12 @@ TEST(SimplifyTo, IsotropicPriorityGivesWellShapedBases) {
     SimplifyOptions regular = isotropic;
     regular.valence_weight = 0.05;
     const BaseShape valences = base_shape(base_mesh(simplify_to(mesh, 100, regular)));
-    std::printf("  quality mean/min, valence deviation: quadric %.3f/%.3f/%.0f, isotropic "
-                "%.3f/%.3f/%.0f, with valences %.3f/%.3f/%.0f\n",
-                quadric.mean_quality, quadric.worst_quality, quadric.valence_deviation,
-                even.mean_quality, even.worst_quality, even.valence_deviation,
-                valences.mean_quality, valences.worst_quality, valences.valence_deviation);
+    std::printf(
+        "  quality mean/min, valence deviation: quadric %.3f/%.3f/%.0f, isotropic "
+        "%.3f/%.3f/%.0f, with valences %.3f/%.3f/%.0f\n",
+        quadric.mean_quality, quadric.worst_quality, quadric.valence_deviation, even.mean_quality,
+        even.worst_quality, even.valence_deviation, valences.mean_quality, valences.worst_quality,
+        valences.valence_deviation);
     EXPECT_GT(even.mean_quality, quadric.mean_quality + 0.03);
     EXPECT_GT(even.mean_quality, 0.85);
     EXPECT_GT(even.worst_quality, quadric.worst_quality);

@@ -1,10 +1,10 @@
 // Choosing among candidate maps: the lowest coarse energy wins, whether the
 // candidates share a domain (octahedral networks) or bring their own (bases).
+#include "refine/network_choice.hpp"
 #include "domain/domain.hpp"
 #include "map/map.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
-#include "refine/network_choice.hpp"
 #include "shapes/shapes.hpp"
 
 #include <gtest/gtest.h>
