@@ -29,8 +29,10 @@ print(f"gim-remesh, 257x257, {os.cpu_count()} cores ({platform.machine()}). Time
 print("Default run (right-isosceles metric): map efficiency domain->surface, image efficiency on the unit square, flipped grid triangles, PSNR of the remesh.")
 print("Equilateral run (`--metric equilateral`): image efficiency on the regular octahedron |x|+|y|+|z|=1, as in the paper's Table 1.")
 print()
-print("| model | faces | partition | pm | map | sample | total | peak MB | valid | map eff. | square eff. | flips | PSNR dB | spherical (sq. eff. / flips / PSNR) | equilateral: octa eff. | paper (octa eff. / PSNR) |")
-print("|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---|")
+print("`map`: the progressive meshes and coarse maps of every candidate network, then the refinement.")
+print()
+print("| model | faces | partition | map | sample | total | peak MB | valid | map eff. | square eff. | flips | PSNR dB | spherical (sq. eff. / flips / PSNR) | equilateral: octa eff. | paper (octa eff. / PSNR) |")
+print("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---|")
 for m in models:
     r = json.load(open(os.path.join(work, m + ".json")))
     e = json.load(open(os.path.join(work, m + "-eq.json")))
@@ -39,7 +41,7 @@ for m in models:
     s = r["seconds"]
     faces = r["inputs"][0]["check"]["faces"]
     p = paper.get(m)
-    print(f"| {m} | {faces} | {s['partition']:.2f} | {s['progressive mesh']:.2f} | {s['map']:.2f} | {s['sample']:.2f} | {s['total']:.2f} | {r['peak_memory_mb']:.0f} | {'yes' if r['map']['valid'] else 'NO'} "
+    print(f"| {m} | {faces} | {s['partition']:.2f} | {s['map']:.2f} | {s['sample']:.2f} | {s['total']:.2f} | {r['peak_memory_mb']:.0f} | {'yes' if r['map']['valid'] else 'NO'} "
           f"| {r['map']['efficiency_domain_to_surface']:.3f} | {r['image']['efficiency_square']:.3f} | {r['image']['flipped_triangles']} | {r['distance']['psnr_db']:.1f} "
           f"| {spherical.get(m, '')} | {e['image']['efficiency_octahedron']:.3f} | {'%.3f / %.1f' % p if p else ''} |" if e else "")
 PY

@@ -1,5 +1,8 @@
 #include "mesh/triangle_mesh.hpp"
 
+#include <algorithm>
+#include <utility>
+
 #include <Eigen/Geometry>
 
 namespace ism {
@@ -35,6 +38,21 @@ double signed_volume(const TriangleMesh& mesh) {
   for (const Triangle& t : mesh.triangles)
     six_volume += mesh.positions[t[0]].dot(mesh.positions[t[1]].cross(mesh.positions[t[2]]));
   return six_volume / 6.0;
+}
+
+long euler_characteristic(const TriangleMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  std::vector<int> used;
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      edges.push_back(std::minmax(t[k], t[(k + 1) % 3]));
+      used.push_back(t[k]);
+    }
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return long(used.size()) - long(edges.size()) + long(mesh.n_faces());
 }
 
 }  // namespace ism

@@ -29,6 +29,10 @@ Vec3 face_normal_scaled(const TriangleMesh& mesh, std::size_t f);
 double surface_area(const TriangleMesh& mesh);
 /// Length of the diagonal of the axis-aligned bounding box of the vertices.
 double bounding_box_diagonal(const TriangleMesh& mesh);
+/// V − E + F over the vertices that faces use (2 − 2g for a closed,
+/// connected, orientable surface of genus g).
+long euler_characteristic(const TriangleMesh& mesh);
+
 /// Signed enclosed volume (positive for a closed, outward-oriented mesh).
 double signed_volume(const TriangleMesh& mesh);
 

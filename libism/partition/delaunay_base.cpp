@@ -90,13 +90,7 @@ TriangleMesh delaunay_base(const TriangleMesh& surface, const std::vector<int>& 
     } while (a != start && steps <= next[i].size());
     if (steps != next[i].size()) refuse("region " + std::to_string(i) + " is not a disc");
   }
-  auto euler = [](const TriangleMesh& m, std::size_t edges) {
-    return long(m.n_vertices()) - long(edges) + long(m.n_faces());
-  };
-  std::set<std::pair<int, int>> surface_edges;
-  for (const Triangle& t : surface.triangles)
-    for (int k = 0; k < 3; ++k) surface_edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
-  if (euler(base, directed.size() / 2) != euler(surface, surface_edges.size()))
+  if (euler_characteristic(base) != euler_characteristic(surface))
     refuse("the regions' dual has another genus than the surface");
   return base;
 }

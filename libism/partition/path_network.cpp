@@ -638,15 +638,7 @@ PathNetwork trace_path_network(const TriangleMesh& surface, const TriangleMesh& 
                            " and another one are the same vertex " + std::to_string(features[i]));
   }
   // Genus of both sides (closed surfaces: chi = V - E + F = 2 - 2g).
-  auto euler = [](const TriangleMesh& m) {
-    std::unordered_set<std::uint64_t> edges;
-    for (const Triangle& t : m.triangles)
-      for (int k = 0; k < 3; ++k) edges.insert(undirected_key(t[k], t[(k + 1) % 3]));
-    std::set<int> used;
-    for (const Triangle& t : m.triangles) used.insert(t.begin(), t.end());
-    return long(used.size()) - long(edges.size()) + long(m.n_faces());
-  };
-  const long chi_surface = euler(surface), chi_domain = euler(domain);
+  const long chi_surface = euler_characteristic(surface), chi_domain = euler_characteristic(domain);
   if (chi_surface != chi_domain)
     throw PartitionError("the surface has genus " + std::to_string((2 - chi_surface) / 2) +
                          ", the domain genus " + std::to_string((2 - chi_domain) / 2));

@@ -98,7 +98,6 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
     throw tool::Failure(e.what());
   }
 
-  run.stage("progressive mesh");
   const TriangleMesh octahedron = domain::octahedron();
   const DomainMetric metric =
       o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;

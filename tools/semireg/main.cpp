@@ -41,11 +41,7 @@ struct Options {
 
 // Genus of a closed connected manifold: V - E + F = 2 - 2g.
 int genus_of(const TriangleMesh& mesh) {
-  std::set<std::pair<int, int>> edges;
-  for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) edges.emplace(std::minmax(t[k], t[(k + 1) % 3]));
-  const long chi = long(mesh.n_vertices()) - long(edges.size()) + long(mesh.n_faces());
-  return int((2 - chi) / 2);
+  return int((2 - euler_characteristic(mesh)) / 2);
 }
 
 std::string fixed(double x, int digits) {
