@@ -666,7 +666,8 @@ std::vector<int> choose_torus_features(const TriangleMesh& surface) {
   return torus_candidates(surface, map, false, SpreadMeter(surface)).front().features;
 }
 
-PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOptions& options) {
+std::vector<PathNetwork> trace_torus_networks(const TriangleMesh& surface,
+                                              const PartitionOptions& options) {
   const TorusMap map = harmonic_torus_map(surface);
   const SpreadMeter spread(surface);
   const TriangleMesh domain = domain::torus_3x3();
@@ -684,7 +685,7 @@ PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOpti
   for (bool mirrored : {false, true}) {
     const std::vector<Candidate> candidates = torus_candidates(surface, map, mirrored, spread);
     const int budget = mirrored ? kMaxTraced / 4 : kMaxTraced;
-    std::optional<PathNetwork> best;
+    std::vector<PathNetwork> valid_networks;
     double best_spread = 0.0;
     int valid = 0, traced = 0;
     for (const Candidate& c : candidates) {
@@ -696,18 +697,26 @@ PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOpti
             surface, domain, c.features,
             c.mirrored ? step : guided(step, guide_points(surface, map, c.frame), domain));
         if (!valid++) best_spread = c.spread;
-        if (!best || network.total_length() < best->total_length()) best = std::move(network);
+        valid_networks.push_back(std::move(network));
       } catch (const PartitionError& e) {
         last_error = e.what();
       }
     }
-    if (best) {
+    if (!valid_networks.empty()) {
       if (options.progress) options.progress(1.0);
-      return std::move(*best);
+      std::stable_sort(valid_networks.begin(), valid_networks.end(),
+                       [](const PathNetwork& a, const PathNetwork& b) {
+                         return a.total_length() < b.total_length();
+                       });
+      return valid_networks;
     }
   }
   throw PartitionError("no 3x3 torus path network found (" + std::to_string(attempt) +
                        " feature sets tried); the last error: " + last_error);
+}
+
+PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOptions& options) {
+  return std::move(trace_torus_networks(surface, options).front());
 }
 
 PathNetwork trace_torus_network(const TriangleMesh& surface, const std::vector<int>& features,

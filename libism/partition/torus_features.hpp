@@ -28,6 +28,12 @@ std::vector<int> choose_torus_features(const TriangleMesh& surface);
 /// surface is not closed genus-1 or no candidate gives a valid network.
 PathNetwork trace_torus_network(const TriangleMesh& surface, const PartitionOptions& options = {});
 
+/// All valid networks of those candidates (the first few within 5% of the
+/// best spread, or mirrored ones as a last resort), shortest first, for a
+/// choice by map energy (choose_network). Same errors.
+std::vector<PathNetwork> trace_torus_networks(const TriangleMesh& surface,
+                                              const PartitionOptions& options = {});
+
 /// Traces the torus network between given features (row-major in the 3×3
 /// grid), each path in the homotopy class of a harmonic map of the surface
 /// to the flat torus, laid so that the features sit closest to the grid

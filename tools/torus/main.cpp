@@ -110,7 +110,7 @@ Candidates torus_networks(tool::Run& run, const Options& o, const TriangleMesh& 
   Candidates c;
   try {
     if (o.features.empty()) {
-      c.networks.push_back(trace_torus_network(surface, options));
+      c.networks = trace_torus_networks(surface, options);
       return c;
     }
     const auto entries = io::read_feature_file(o.features);
