@@ -83,8 +83,10 @@ for tag in runs:
           f"| {r['distance']['psnr_db']:.1f} | {paper.get(m, '')} |")
 print()
 print("Features: *given* are ../shared's `*_features_3x3.txt`; *(transposed)*: the grid as given "
-      "is oriented against the domain (or cannot be traced), and its transpose, which is traced as "
-      "well (networks = 2), gave the lower-energy coarse map. The square domain does not suit long "
+      "is oriented against the domain (or cannot be traced): its transpose is traced as well, and in "
+      "the harmonic map's homotopy class only the grid oriented like the surface traces (networks = 1). "
+      "Automatic features: every valid candidate network competes on coarse map energy. "
+      "The square domain does not suit long "
       "thin shapes: the linear map of the unit square onto an a×b flat torus scores 2ab/(a²+b²), "
       "0.2 for a tube ten times longer than round.")
 PY
