@@ -15,6 +15,7 @@
 #include "sample/geometry_image_file.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
+#include "tool/map_stage.hpp"
 
 #include <cmath>
 #include <memory>
@@ -109,14 +110,12 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
-  if (!o.dump_patches.empty())
-    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
-      write_patch_dump(chosen->network, p);
-    });
-  RefineOptions refine_options;
-  refine_options.max_final_sweeps = o.final_sweeps;
-  refine_options.progress = [&](double f) { progress.update(f); };
-  const RefineStats stats = refine(map, refine_options);
+  const RefineStats stats =
+      tool::run_map_stage(run, chosen->network, map, progress,
+                          {.input = o.input,
+                           .dump_patches = o.dump_patches,
+                           .final_sweeps = o.final_sweeps,
+                           .hint = "try --hold-features or other --features"});
 
   run.stage("validate");
   const auto problem = map.validate();

@@ -17,6 +17,7 @@
 #include "sample/semiregular.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
+#include "tool/map_stage.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -260,23 +261,14 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     bj["candidates"] = bases.size();
     bj["chosen"] = chosen_base.name;
   }
-  if (!o.dump_patches.empty())
-    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
-      write_patch_dump(chosen->network, p);
-    });
   run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
 
   SurfaceMap& map = *chosen->map;
-  RefineOptions refine_options;
-  refine_options.max_final_sweeps = o.final_sweeps;
-  refine_options.progress = [&](double f) { progress.update(f); };
-  RefineStats stats;
-  try {
-    stats = refine(map, refine_options);
-  } catch (const std::runtime_error& e) {
-    throw tool::Failure("semireg: the map optimisation failed on " + o.input + " (" + e.what() +
-                        "); try --hold-features or another base");
-  }
+  const RefineStats stats = tool::run_map_stage(run, chosen->network, map, progress,
+                                                {.input = o.input,
+                                                 .dump_patches = o.dump_patches,
+                                                 .final_sweeps = o.final_sweeps,
+                                                 .hint = "try --hold-features or another base"});
 
   run.stage("validate");
   if (const auto problem = map.validate())

@@ -21,6 +21,7 @@
 #include "sample/torus_grid.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
+#include "tool/map_stage.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -172,20 +173,12 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
                (n_candidates == 1 ? "it cannot be traced"
                                   : "it gives a worse, twisted map (oriented against the domain)"));
   }
-  if (!o.dump_patches.empty())
-    tool::write_output(run, o.dump_patches, [&](const std::filesystem::path& p) {
-      write_patch_dump(chosen->network, p);
-    });
-  RefineOptions refine_options;
-  refine_options.max_final_sweeps = o.final_sweeps;
-  refine_options.progress = [&](double f) { progress.update(f); };
-  RefineStats stats;
-  try {
-    stats = refine(map, refine_options);
-  } catch (const std::runtime_error& e) {
-    throw tool::Failure("torus-remesh: the map optimisation failed on " + o.input + " (" +
-                        e.what() + "); try --hold-features or other --features");
-  }
+  const RefineStats stats =
+      tool::run_map_stage(run, chosen->network, map, progress,
+                          {.input = o.input,
+                           .dump_patches = o.dump_patches,
+                           .final_sweeps = o.final_sweeps,
+                           .hint = "try --hold-features or other --features"});
 
   run.stage("validate");
   if (const auto problem = map.validate())
