@@ -7,12 +7,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 namespace ism {
 
 double SurfaceMap::relocate_cone(int v) {
+  if (options_.cone_relaxation_rings > 0)
+    return relocate_cone_relaxed(v, options_.cone_relaxation_rings, 2);
+  return move_cone(v, -1).value_or(0.0);
+}
+
+std::optional<double> SurfaceMap::move_cone(int v, int to,
+                                            std::vector<std::pair<double, int>>* estimates) {
   const int x = at_domain_vertex_[v];
-  if (x < 0 || !domain_.is_cone(x) || !options_.release_features) return 0.0;
+  if (x < 0 || !domain_.is_cone(x) || !options_.release_features) return std::nullopt;
   const std::vector<int> around = neighbours(v);
   const std::size_t m = around.size();
 
@@ -25,10 +33,12 @@ double SurfaceMap::relocate_cone(int v) {
     std::vector<int> w_vertices;
     WalkEnd w_end;  // layout of w's face in w's sheet
   } best;
+  // With a forced target, any gain is taken (the caller relaxes and judges).
+  if (to >= 0) best.gain = -HUGE_VAL;
 
   for (std::size_t j = 0; j < m; ++j) {
     const int w = around[j];
-    if (at_domain_vertex_[w] >= 0 || pinned_[w]) continue;
+    if (at_domain_vertex_[w] >= 0 || pinned_[w] || (to >= 0 && w != to)) continue;
     // v's ring unwrapped from the vertex after w, so w comes last and its
     // own one-ring lies in one sheet of the cone's chart.
     Ring vr;
@@ -114,7 +124,11 @@ double SurfaceMap::relocate_cone(int v) {
     Vec2 pv = *start;
     const double v_after = minimize_in_kernel(ring, pv, energy_after_v);
     const double gain = before - (v_after + w_after);
-    if (gain > best.gain * (1 + 1e-12) && gain > 1e-12 * before) {
+    if (estimates) {
+      estimates->emplace_back(gain, w);
+      continue;
+    }
+    if (to >= 0 ? gain > best.gain : gain > best.gain * (1 + 1e-12) && gain > 1e-12 * before) {
       best.gain = gain;
       best.w = w;
       best.pv = pv;
@@ -124,7 +138,7 @@ double SurfaceMap::relocate_cone(int v) {
       best.w_end = w_end;
     }
   }
-  if (best.w < 0) return 0.0;
+  if (best.w < 0) return std::nullopt;
 
   // Commit: walks first (all-or-nothing), then the locations.
   const int w = best.w;
@@ -139,13 +153,13 @@ double SurfaceMap::relocate_cone(int v) {
   WalkEnd at;
   if (!wedge_containing(x, face, layout, best.pv) ||
       !trace(face, layout, Vec2::Zero(), best.pv, scratch, at))
-    return 0.0;
+    return std::nullopt;
   best.pv = interior_point(at.layout, best.pv);
   // Walks v -> ring[i] (w is the origin, reached at the cone's corner).
   std::vector<EdgeWalk> from_v(last + 1);
   for (std::size_t i = 0; i <= last; ++i) {
     WalkEnd e;
-    if (!trace(at.face, at.layout, best.pv, ring[i], from_v[i], e)) return 0.0;
+    if (!trace(at.face, at.layout, best.pv, ring[i], from_v[i], e)) return std::nullopt;
   }
   // Walks u -> w for w's other neighbours, traced towards the cone in w's sheet.
   std::vector<EdgeWalk> to_w(best.w_vertices.size());
@@ -155,7 +169,7 @@ double SurfaceMap::relocate_cone(int v) {
     const EdgeWalk& old = walks_[f][corner_of(f, w)];  // w -> u
     const WalkEnd e = follow(old, best.w_end.layout);
     WalkEnd end;
-    if (!trace_from(u, e.face, e.layout, Vec2::Zero(), to_w[k], end)) return 0.0;
+    if (!trace_from(u, e.face, e.layout, Vec2::Zero(), to_w[k], end)) return std::nullopt;
   }
 
   // Remember what changes, so that an inconsistent result can be undone.
@@ -197,9 +211,99 @@ double SurfaceMap::relocate_cone(int v) {
     location_[v] = saved_v, location_[w] = saved_w;
     at_domain_vertex_[v] = saved_at_v, at_domain_vertex_[w] = saved_at_w;
     pinned_[v] = 1, pinned_[w] = 0;
-    return 0.0;
+    return std::nullopt;
   }
   return best.gain;
+}
+
+// ------------------------------------------------- relocation with relaxation
+
+std::vector<int> SurfaceMap::rings_around(int v, int rings) const {
+  std::vector<int> region{v};
+  std::unordered_set<int> seen{v};
+  for (std::size_t begin = 0, r = 0; r < std::size_t(rings); ++r) {
+    const std::size_t end = region.size();
+    for (std::size_t i = begin; i < end; ++i)
+      for (int u : neighbours(region[i]))
+        if (seen.insert(u).second) region.push_back(u);
+    begin = end;
+  }
+  return region;
+}
+
+SurfaceMap::RegionState SurfaceMap::save_region(const std::vector<int>& vertices) const {
+  RegionState state;
+  state.vertices = vertices;
+  for (int u : vertices) {
+    state.faces.insert(state.faces.end(), vertex_faces_[u].begin(), vertex_faces_[u].end());
+    state.locations.push_back(location_[u]);
+    state.at_domain_vertex.push_back(at_domain_vertex_[u]);
+    state.pinned.push_back(pinned_[u]);
+  }
+  std::sort(state.faces.begin(), state.faces.end());
+  state.faces.erase(std::unique(state.faces.begin(), state.faces.end()), state.faces.end());
+  for (int f : state.faces) state.walks.push_back(walks_[f]);
+  state.optimizations = optimizations_;
+  state.single_face_rings = single_face_rings_;
+  return state;
+}
+
+void SurfaceMap::restore_region(const RegionState& state) {
+  for (std::size_t i = 0; i < state.vertices.size(); ++i) {
+    const int u = state.vertices[i];
+    location_[u] = state.locations[i];
+    at_domain_vertex_[u] = state.at_domain_vertex[i];
+    pinned_[u] = state.pinned[i];
+  }
+  for (std::size_t i = 0; i < state.faces.size(); ++i) walks_[state.faces[i]] = state.walks[i];
+  optimizations_ = state.optimizations;
+  single_face_rings_ = state.single_face_rings;
+}
+
+double SurfaceMap::faces_energy(const std::vector<int>& faces) const {
+  double sum = 0.0;
+  FaceChart chart;
+  for (int t : faces) {
+    if (!face_chart(t, chart)) return HUGE_VAL;
+    sum += face_energy(t, chart.corner[0], chart.corner[1], chart.corner[2]);
+  }
+  return sum;
+}
+
+double SurfaceMap::relocate_cone_relaxed(int v, int rings, int passes) {
+  const int x = at_domain_vertex_[v];
+  if (x < 0 || !domain_.is_cone(x) || !options_.release_features || rings < 1) return 0.0;
+  // Only vertices of the region move, so only the faces around them change.
+  const RegionState saved = save_region(rings_around(v, rings));
+  const double before = faces_energy(saved.faces);
+  auto move_and_relax = [&](int w) {
+    if (!move_cone(v, w)) return HUGE_VAL;
+    for (int pass = 0; pass < passes; ++pass)
+      for (int u : saved.vertices) optimize_vertex(u);
+    return faces_energy(saved.faces);
+  };
+  // Only the most promising moves by the unrelaxed estimate are relaxed.
+  std::vector<std::pair<double, int>> estimates;
+  move_cone(v, -1, &estimates);
+  const std::size_t tried = std::min<std::size_t>(estimates.size(), 2);
+  std::partial_sort(estimates.begin(), estimates.begin() + tried, estimates.end(),
+                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  double best = before;
+  int best_w = -1;
+  for (std::size_t i = 0; i < tried; ++i) {
+    const int w = estimates[i].second;
+    const double after = move_and_relax(w);
+    if (after < best * (1 - 1e-12)) best = after, best_w = w;
+    restore_region(saved);
+  }
+  if (best_w < 0) return 0.0;
+  // Deterministic: the same move and relaxation give the same state again.
+  const double after = move_and_relax(best_w);
+  if (!(after < before)) {
+    restore_region(saved);
+    return 0.0;
+  }
+  return before - after;
 }
 
 }  // namespace ism

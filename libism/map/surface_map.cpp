@@ -366,7 +366,8 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
   // Forward stretch weighted by range area, backward by domain area, each
   // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
   return area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
-         area_d * (total_m / (total_d * total_d)) * 0.5 * frob / (det * det);
+         options_.inverse_stretch_weight * area_d * (total_m / (total_d * total_d)) * 0.5 * frob /
+             (det * det);
 }
 
 double SurfaceMap::energy() const {

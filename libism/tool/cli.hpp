@@ -1,6 +1,7 @@
 #pragma once
 // The command-line side of the tool conventions. CLI11 is costly to compile:
 // include this header only in a tool's main.cpp.
+#include "tool/map_stage.hpp"
 #include "tool/tool.hpp"
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,21 @@ inline void add_common_options(CLI::App& app, CommonOptions& options) {
   app.set_version_flag("--version", std::string(ISM_VERSION));
   app.add_flag("-q,--quiet", options.quiet, "No progress or notes on stderr");
   app.add_option("--report", options.report_path, "Write a JSON report (sizes, timings, measures)");
+}
+
+/// --hold-features, --final-sweeps and --inverse-weight, the same in every
+/// front end (each sets its own default weight in `settings`).
+inline void add_map_options(CLI::App& app, MapSettings& settings) {
+  app.add_flag("--hold-features", settings.hold_features,
+               "Keep the features fixed during optimisation");
+  app.add_option("--final-sweeps", settings.final_sweeps,
+                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
+      ->check(CLI::Range(0, 1000));
+  app.add_option("--inverse-weight", settings.inverse_stretch_weight,
+                 "Weight of the inverse stretch (surface -> domain) in the optimised energy: 1 is "
+                 "the symmetric stretch, lower favours the one-way stretch domain -> surface")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 1.0));
 }
 
 }  // namespace ism::tool

@@ -6,6 +6,11 @@
 
 namespace ism::tool {
 
+void MapSettings::report(Json& r) const {
+  r["features_released"] = !hold_features;
+  r["inverse_stretch_weight"] = inverse_stretch_weight;
+}
+
 RefineStats run_map_stage(Run& run, const PathNetwork& network, SurfaceMap& map, Progress& progress,
                           const MapStage& stage) {
   if (!stage.dump_patches.empty())

@@ -10,6 +10,18 @@
 
 namespace ism::tool {
 
+/// The map options every front end offers (tool/cli.hpp: add_map_options).
+struct MapSettings {
+  bool hold_features = false;
+  int final_sweeps = 8;               // RefineOptions::max_final_sweeps
+  double inverse_stretch_weight = 1;  // MapOptions::inverse_stretch_weight
+  MapOptions map_options() const {
+    return {.release_features = !hold_features, .inverse_stretch_weight = inverse_stretch_weight};
+  }
+  /// "features_released" and "inverse_stretch_weight" into a report.
+  void report(Json& r) const;
+};
+
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none

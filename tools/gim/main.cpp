@@ -28,9 +28,8 @@ struct Options {
   std::string input, output, normals, mesh, preview, dump_patches, features;
   int size = 257;
   std::string metric = "right-isosceles";
-  bool hold_features = false;
   int draco_bits = 14;
-  int final_sweeps = 8;
+  tool::MapSettings map{.inverse_stretch_weight = 0.1};
 };
 
 // Area-weighted vertex normals of the map's surface.
@@ -106,7 +105,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   const std::size_t candidates = networks.size();
   tool::Progress& progress = run.stage("map");
   const std::unique_ptr<MapSetup> chosen =
-      choose_network(std::move(networks), domain, {.release_features = !o.hold_features});
+      choose_network(std::move(networks), domain, o.map.map_options());
   SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
@@ -114,7 +113,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
       tool::run_map_stage(run, chosen->network, map, progress,
                           {.input = o.input,
                            .dump_patches = o.dump_patches,
-                           .final_sweeps = o.final_sweeps,
+                           .final_sweeps = o.map.final_sweeps,
                            .hint = "try --hold-features or other --features"});
 
   run.stage("validate");
@@ -158,7 +157,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   Json& r = run.report();
   r["size"] = o.size;
   r["metric"] = o.metric;
-  r["features_released"] = !o.hold_features;
+  o.map.report(r);
   r["map"] = map_report(map, m, stats);
   const double square_efficiency = image_efficiency(image, ImageDomain::square);
   Json& ij = r["image"];
@@ -190,10 +189,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"right-isosceles", "equilateral"}));
   app.add_option("--features", o.features,
                  "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
-  app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
-  app.add_option("--final-sweeps", o.final_sweeps,
-                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
-      ->check(CLI::Range(0, 1000));
+  tool::add_map_options(app, o.map);
   app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
   app.add_option("--mesh", o.mesh, "Remesh of the image (.obj, .ply, .off, .stl, .drc)");
   app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")

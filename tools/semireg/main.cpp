@@ -35,9 +35,8 @@ struct Options {
   std::string input, output, base, base_vertices, write_base, dump_patches;
   std::size_t base_size = 0;
   int levels = 4;
-  bool hold_features = false;
   int draco_bits = 14;
-  int final_sweeps = 8;
+  tool::MapSettings map{.inverse_stretch_weight = 1.0};
 };
 
 // Genus of a closed connected manifold: V - E + F = 2 - 2g.
@@ -251,7 +250,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
 
   tool::Progress& progress = run.stage("map");
   const std::unique_ptr<MapSetup> chosen =
-      choose_domain(std::move(candidates), MapOptions{.release_features = !o.hold_features}, 5000);
+      choose_domain(std::move(candidates), o.map.map_options(), 5000);
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
   const TriangleMesh& base = chosen_base.mesh;
   {
@@ -267,7 +266,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   const RefineStats stats = tool::run_map_stage(run, chosen->network, map, progress,
                                                 {.input = o.input,
                                                  .dump_patches = o.dump_patches,
-                                                 .final_sweeps = o.final_sweeps,
+                                                 .final_sweeps = o.map.final_sweeps,
                                                  .hint = "try --hold-features or another base"});
 
   run.stage("validate");
@@ -301,7 +300,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   Json& r = run.report();
   r["levels"] = o.levels;
   r["metric"] = "equilateral";
-  r["features_released"] = !o.hold_features;
+  o.map.report(r);
   r["map"] = map_report(map, m, stats);
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
@@ -346,11 +345,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 8));
   app.add_option("--write-base", o.write_base, "Write the base used, its vertices on the surface");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
-  app.add_flag("--hold-features", o.hold_features,
-               "Keep the base vertices fixed during optimisation");
-  app.add_option("--final-sweeps", o.final_sweeps,
-                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
-      ->check(CLI::Range(0, 1000));
+  ism::tool::add_map_options(app, o.map);
   app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits")
       ->check(CLI::Range(8, 30));
   ism::tool::add_common_options(app, common);

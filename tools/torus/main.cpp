@@ -36,9 +36,8 @@ struct Options {
   std::string input, output, features, image, dump_patches;
   std::string size = "128";
   bool triangulate = false;
-  bool hold_features = false;
   int draco_bits = 14;
-  int final_sweeps = 8;
+  tool::MapSettings map{.inverse_stretch_weight = 1.0};
 };
 
 struct GridSize {
@@ -157,8 +156,8 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   const DomainGeometry domain(torus, torus_3x3_lengths(torus));
   // Progressive meshes and coarse maps of the candidates, then the refinement.
   tool::Progress& progress = run.stage("map");
-  const std::unique_ptr<MapSetup> chosen = choose_network(
-      std::move(candidates.networks), domain, MapOptions{.release_features = !o.hold_features});
+  const std::unique_ptr<MapSetup> chosen =
+      choose_network(std::move(candidates.networks), domain, o.map.map_options());
   SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
   run.report()["partition"]["candidate_networks"] = n_candidates;
@@ -177,7 +176,7 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
       tool::run_map_stage(run, chosen->network, map, progress,
                           {.input = o.input,
                            .dump_patches = o.dump_patches,
-                           .final_sweeps = o.final_sweeps,
+                           .final_sweeps = o.map.final_sweeps,
                            .hint = "try --hold-features or other --features"});
 
   run.stage("validate");
@@ -211,7 +210,7 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   const std::size_t flipped = torus_grid_flipped_triangles(grid);
   Json& r = run.report();
   r["metric"] = "right-isosceles";
-  r["features_released"] = !o.hold_features;
+  o.map.report(r);
   r["map"] = map_report(map, m, stats);
   Json& gj = r["grid"];
   gj["columns"] = size.columns;
@@ -249,10 +248,7 @@ int main(int argc, char** argv) {
   app.add_flag("--triangulate", o.triangulate, "Write two triangles per grid quad");
   app.add_option("--image", o.image, "Periodic geometry image (.exr, V rows x U columns)");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
-  app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
-  app.add_option("--final-sweeps", o.final_sweeps,
-                 "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
-      ->check(CLI::Range(0, 1000));
+  tool::add_map_options(app, o.map);
   app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits (.drc)")
       ->check(CLI::Range(8, 30));
   tool::add_common_options(app, common);
