@@ -289,21 +289,18 @@ double SurfaceMap::relocate_cone_relaxed(int v, int rings, int passes) {
   std::partial_sort(estimates.begin(), estimates.begin() + tried, estimates.end(),
                     [](const auto& a, const auto& b) { return a.first > b.first; });
   double best = before;
-  int best_w = -1;
+  std::optional<RegionState> best_state;
   for (std::size_t i = 0; i < tried; ++i) {
-    const int w = estimates[i].second;
-    const double after = move_and_relax(w);
-    if (after < best * (1 - 1e-12)) best = after, best_w = w;
+    const double after = move_and_relax(estimates[i].second);
+    if (after < best * (1 - 1e-12)) {
+      best = after;
+      best_state = save_region(saved.vertices);
+    }
     restore_region(saved);
   }
-  if (best_w < 0) return 0.0;
-  // Deterministic: the same move and relaxation give the same state again.
-  const double after = move_and_relax(best_w);
-  if (!(after < before)) {
-    restore_region(saved);
-    return 0.0;
-  }
-  return before - after;
+  if (!best_state) return 0.0;
+  restore_region(*best_state);
+  return before - best;
 }
 
 }  // namespace ism

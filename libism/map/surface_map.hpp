@@ -86,6 +86,7 @@ class SurfaceMap {
   SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, MapOptions options = {});
 
   const DomainGeometry& domain() const { return domain_; }
+  const MapOptions& options() const { return options_; }
   std::size_t n_vertices() const { return active_vertices_; }
   std::size_t n_faces() const { return faces_.size(); }
   std::size_t splits_applied() const { return next_split_; }

@@ -19,9 +19,11 @@ void check_operation(const SurfaceMap& map, bool on, const char* what, int v) {
 
 double optimization_sweep(SurfaceMap& map, bool validate_each_step) {
   double gain = 0.0;
-  // Released cones first: each may walk a few steps downhill.
+  // Released cones first: each may walk a few steps downhill (one when each
+  // step relaxes its neighbourhood, which costs as much as a few steps).
+  const int steps = map.options().cone_relaxation_rings > 0 ? 1 : 4;
   for (std::size_t x = 0; x < map.domain().n_vertices(); ++x)
-    for (int step = 0; step < 4; ++step) {
+    for (int step = 0; step < steps; ++step) {
       const int v = map.vertex_at_domain_vertex(int(x));
       const double g = v >= 0 ? map.relocate_cone(v) : 0.0;
       check_operation(map, validate_each_step, "moving a cone", v);

@@ -16,17 +16,19 @@ inline void add_common_options(CLI::App& app, CommonOptions& options) {
 }
 
 /// --hold-features, --final-sweeps and --inverse-weight, the same in every
-/// front end (each sets its own default weight in `settings`).
+/// front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
   app.add_flag("--hold-features", settings.hold_features,
                "Keep the features fixed during optimisation");
   app.add_option("--final-sweeps", settings.final_sweeps,
                  "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
       ->check(CLI::Range(0, 1000));
-  app.add_option("--inverse-weight", settings.inverse_stretch_weight,
-                 "Weight of the inverse stretch (surface -> domain) in the optimised energy: 1 is "
-                 "the symmetric stretch, lower favours the one-way stretch domain -> surface")
-      ->capture_default_str()
+  app.add_option_function<double>(
+         "--inverse-weight",
+         [&settings](const double& w) { settings.variants = {{.inverse_stretch_weight = w}}; },
+         "Weight of the inverse stretch (surface -> domain) in the optimised energy: 1 is the "
+         "symmetric stretch, lower favours the one-way stretch domain -> surface (default: "
+         "the tool's variants, each refined and the best kept)")
       ->check(CLI::Range(0.001, 1.0));
 }
 

@@ -2,29 +2,94 @@
 
 #include "tool/failure.hpp"
 
+#include <tbb/task_group.h>
+
+#include <exception>
+#include <optional>
 #include <stdexcept>
 
 namespace ism::tool {
 
-void MapSettings::report(Json& r) const {
-  r["features_released"] = !hold_features;
-  r["inverse_stretch_weight"] = inverse_stretch_weight;
+MapOptions MapSettings::map_options(std::size_t i) const {
+  const MapVariant& v = variants.at(i);
+  return {.release_features = !hold_features,
+          .inverse_stretch_weight = v.inverse_stretch_weight,
+          .cone_relaxation_rings = v.cone_relaxation_rings};
 }
 
-RefineStats run_map_stage(Run& run, const PathNetwork& network, SurfaceMap& map, Progress& progress,
-                          const MapStage& stage) {
-  if (!stage.dump_patches.empty())
-    write_output(run, stage.dump_patches,
-                 [&](const std::filesystem::path& p) { write_patch_dump(network, p); });
-  RefineOptions options;
-  options.max_final_sweeps = stage.final_sweeps;
-  options.progress = [&](double f) { progress.update(f); };
-  try {
-    return refine(map, options);
-  } catch (const std::runtime_error& e) {
-    throw Failure(run.tool_name() + ": the map optimisation failed on " + stage.input + " (" +
-                  e.what() + "); " + stage.hint);
+MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
+                             const MapSettings& settings, const ChooseMap& choose,
+                             const MapScore& score) {
+  const std::size_t n = settings.variants.size();
+  struct Outcome {
+    MapStageResult result;
+    std::exception_ptr error;
+    double score = 0;
+  };
+  std::vector<Outcome> outcomes(n);
+  tbb::task_group group;
+  for (std::size_t i = 0; i < n; ++i)
+    group.run([&, i] {
+      Outcome& out = outcomes[i];
+      try {
+        out.result.setup = choose(settings.map_options(i));
+        RefineOptions options;
+        options.max_final_sweeps = settings.final_sweeps;
+        if (i == 0) options.progress = [&](double f) { progress.update(f); };
+        out.result.stats = refine(*out.result.setup->map, options);
+        out.score = score(*out.result.setup->map);
+      } catch (...) {
+        out.error = std::current_exception();
+      }
+    });
+  group.wait();
+
+  std::optional<std::size_t> kept;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!outcomes[i].error && (!kept || outcomes[i].score > outcomes[*kept].score)) kept = i;
+  if (!kept) {
+    try {
+      std::rethrow_exception(outcomes[0].error);
+    } catch (const Failure&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw Failure(run.tool_name() + ": the map optimisation failed on " + stage.input + " (" +
+                    e.what() + "); " + stage.hint);
+    }
   }
+
+  Json& r = run.report();
+  r["features_released"] = !settings.hold_features;
+  Json& variants = r["map_variants"] = Json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    Json v = Json::object();
+    v["inverse_stretch_weight"] = settings.variants[i].inverse_stretch_weight;
+    v["cone_relaxation_rings"] = settings.variants[i].cone_relaxation_rings;
+    if (outcomes[i].error) {
+      try {
+        std::rethrow_exception(outcomes[i].error);
+      } catch (const std::exception& e) {
+        v["error"] = e.what();
+      }
+    } else {
+      const MapMeasures m = outcomes[i].result.setup->map->measures();
+      v["score"] = outcomes[i].score;
+      v["efficiency_domain_to_surface"] = m.forward_efficiency;
+      v["symmetric_efficiency"] = m.symmetric_efficiency;
+    }
+    v["kept"] = i == *kept;
+    variants.push_back(v);
+  }
+  if (n > 1)
+    run.note("kept map variant " + std::to_string(*kept + 1) + " of " + std::to_string(n) +
+             " (inverse-stretch weight " +
+             std::to_string(settings.variants[*kept].inverse_stretch_weight) + ")");
+  MapStageResult kept_result = std::move(outcomes[*kept].result);
+  if (!stage.dump_patches.empty())
+    write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {
+      write_patch_dump(kept_result.setup->network, p);
+    });
+  return kept_result;
 }
 
 }  // namespace ism::tool

@@ -2,37 +2,69 @@
 // The map stage as every front end runs it once a network is chosen: the
 // optional patch dump, then the refinement to full resolution with progress,
 // a failure of the map core turned into one line a user can act on.
+//
+// The coarse map can be refined in several variants of the optimised energy
+// at once (one per core), the front end's score keeping one: which energy
+// reaches the better map depends on the surface (a low inverse-stretch weight
+// lifts the one-way efficiency of most models but traps flat-faced ones such
+// as cube.obj in folds the symmetric energy avoids).
 #include "partition/partition.hpp"
+#include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "tool/tool.hpp"
 
+#include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace ism::tool {
+
+/// How one variant of the map differs: MapOptions' energy settings.
+struct MapVariant {
+  double inverse_stretch_weight = 1.0;
+  int cone_relaxation_rings = 2;
+};
 
 /// The map options every front end offers (tool/cli.hpp: add_map_options).
 struct MapSettings {
   bool hold_features = false;
-  int final_sweeps = 8;               // RefineOptions::max_final_sweeps
-  double inverse_stretch_weight = 1;  // MapOptions::inverse_stretch_weight
-  MapOptions map_options() const {
-    return {.release_features = !hold_features, .inverse_stretch_weight = inverse_stretch_weight};
-  }
-  /// "features_released" and "inverse_stretch_weight" into a report.
-  void report(Json& r) const;
+  int final_sweeps = 8;  // RefineOptions::max_final_sweeps
+  /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
+  std::vector<MapVariant> variants{MapVariant{}};
+  /// The options of variant i (the coarse maps use variant 0).
+  MapOptions map_options(std::size_t i = 0) const;
 };
 
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
-  int final_sweeps = 8;      // RefineOptions::max_final_sweeps
   std::string hint;          // what to try when the optimisation fails
 };
 
-/// Writes the patch dump (if asked) and refines `map` to full resolution,
-/// reporting on `progress`. Throws Failure "<tool>: the map optimisation
-/// failed on <input> (<why>); <hint>" when the map core throws.
-RefineStats run_map_stage(Run& run, const PathNetwork& network, SurfaceMap& map, Progress& progress,
-                          const MapStage& stage);
+/// Scores a refined map; the variant with the highest score is kept.
+using MapScore = std::function<double(const SurfaceMap&)>;
+/// Chooses the network (or domain) and builds its coarse map with the given
+/// options: choose_network() or choose_domain() over the front end's candidates.
+using ChooseMap = std::function<std::unique_ptr<MapSetup>(const MapOptions&)>;
+
+struct MapStageResult {
+  std::unique_ptr<MapSetup> setup;  // the variant kept, refined to full resolution
+  RefineStats stats;
+};
+
+/// Runs every variant of `settings` in parallel, each deterministic and
+/// whole — its own choice of network and coarse map, since the large-scale
+/// shape of a map is decided at its coarsest levels — then its refinement to
+/// full resolution (progress on `progress` from the first variant). Keeps
+/// the variant with the highest score (the first among equals) and writes
+/// its patch dump if asked. The report gets "features_released" and
+/// "map_variants" (each variant's settings, score, efficiencies and whether
+/// it was kept). When every variant fails, rethrows the first variant's
+/// Failure, or throws Failure "<tool>: the map optimisation failed on
+/// <input> (<why>); <hint>".
+MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
+                             const MapSettings& settings, const ChooseMap& choose,
+                             const MapScore& score);
 
 }  // namespace ism::tool

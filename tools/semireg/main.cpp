@@ -36,7 +36,8 @@ struct Options {
   std::size_t base_size = 0;
   int levels = 4;
   int draco_bits = 14;
-  tool::MapSettings map{.inverse_stretch_weight = 1.0};
+  // Cone moves relaxed or not: either can reach the better map.
+  tool::MapSettings map;  // one variant: symmetric energy, cone moves relaxed
 };
 
 // Genus of a closed connected manifold: V - E + F = 2 - 2g.
@@ -233,24 +234,33 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
       errors[i] = e.what();
     }
   });
-  std::vector<DomainCandidate> candidates;
-  std::vector<std::size_t> candidate_base;
+  std::vector<std::size_t> candidate_base;  // the base of each candidate
   std::string first_error;
   for (std::size_t i = 0; i < bases.size(); ++i) {
-    if (!networks[i]) {
-      if (first_error.empty()) first_error = errors[i];
-      continue;
-    }
-    candidates.push_back(
-        {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
-         std::move(*networks[i])});
-    candidate_base.push_back(i);
+    if (networks[i])
+      candidate_base.push_back(i);
+    else if (first_error.empty())
+      first_error = errors[i];
   }
-  if (candidates.empty()) throw tool::Failure(o.input + ": " + first_error);
+  if (candidate_base.empty()) throw tool::Failure(o.input + ": " + first_error);
 
   tool::Progress& progress = run.stage("map");
-  const std::unique_ptr<MapSetup> chosen =
-      choose_domain(std::move(candidates), o.map.map_options(), 5000);
+  const auto [chosen, stats] = tool::run_map_stage(
+      run, progress,
+      {.input = o.input,
+       .dump_patches = o.dump_patches,
+       .hint = "try --hold-features or another base"},
+      o.map,
+      [&](const MapOptions& options) {
+        std::vector<DomainCandidate> candidates;
+        for (std::size_t i : candidate_base)
+          candidates.push_back(
+              {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
+               *networks[i]});
+        return choose_domain(std::move(candidates), options, 5000);
+      },
+      [](const SurfaceMap& m) { return m.measures().forward_efficiency; });
+  const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
   const TriangleMesh& base = chosen_base.mesh;
   {
@@ -261,13 +271,6 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     bj["chosen"] = chosen_base.name;
   }
   run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
-
-  SurfaceMap& map = *chosen->map;
-  const RefineStats stats = tool::run_map_stage(run, chosen->network, map, progress,
-                                                {.input = o.input,
-                                                 .dump_patches = o.dump_patches,
-                                                 .final_sweeps = o.map.final_sweeps,
-                                                 .hint = "try --hold-features or another base"});
 
   run.stage("validate");
   if (const auto problem = map.validate())
@@ -300,7 +303,6 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   Json& r = run.report();
   r["levels"] = o.levels;
   r["metric"] = "equilateral";
-  o.map.report(r);
   r["map"] = map_report(map, m, stats);
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
