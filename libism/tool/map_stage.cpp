@@ -13,6 +13,7 @@ RefineStats run_map_stage(Run& run, const PathNetwork& network, SurfaceMap& map,
                  [&](const std::filesystem::path& p) { write_patch_dump(network, p); });
   RefineOptions options;
   options.max_final_sweeps = stage.final_sweeps;
+  options.global_flat_reembedding = stage.global_flat_reembedding;
   options.progress = [&](double f) { progress.update(f); };
   try {
     return refine(map, options);

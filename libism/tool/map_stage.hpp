@@ -14,7 +14,10 @@ struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
   int final_sweeps = 8;      // RefineOptions::max_final_sweeps
-  std::string hint;          // what to try when the optimisation fails
+  /// RefineOptions::global_flat_reembedding (only where it applies: a flat
+  /// torus domain with released features).
+  bool global_flat_reembedding = false;
+  std::string hint;  // what to try when the optimisation fails
 };
 
 /// Writes the patch dump (if asked) and refines `map` to full resolution,

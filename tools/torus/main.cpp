@@ -37,6 +37,7 @@ struct Options {
   std::string size = "128";
   bool triangulate = false;
   bool hold_features = false;
+  bool no_global_reembedding = false;
   int draco_bits = 14;
   int final_sweeps = 8;
 };
@@ -156,9 +157,15 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   // The unit square's metric: the stretch optimised is the stretch the grid samples with.
   const DomainGeometry domain(torus, torus_3x3_lengths(torus));
   // Progressive meshes and coarse maps of the candidates, then the refinement.
+  // The domain is flat: with the features released, global re-embeddings
+  // (refine/flat_reembedding.hpp) open what single-vertex moves leave
+  // squeezed, in the candidates' coarse maps as in the final refinement.
   tool::Progress& progress = run.stage("map");
-  const std::unique_ptr<MapSetup> chosen = choose_network(
-      std::move(candidates.networks), domain, MapOptions{.release_features = !o.hold_features});
+  RefineOptions coarse;
+  coarse.global_flat_reembedding = !o.no_global_reembedding;
+  const std::unique_ptr<MapSetup> chosen =
+      choose_network(std::move(candidates.networks), domain,
+                     MapOptions{.release_features = !o.hold_features}, 1000, coarse);
   SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
   run.report()["partition"]["candidate_networks"] = n_candidates;
@@ -178,6 +185,7 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
                           {.input = o.input,
                            .dump_patches = o.dump_patches,
                            .final_sweeps = o.final_sweeps,
+                           .global_flat_reembedding = !o.no_global_reembedding,
                            .hint = "try --hold-features or other --features"});
 
   run.stage("validate");
@@ -250,6 +258,8 @@ int main(int argc, char** argv) {
   app.add_option("--image", o.image, "Periodic geometry image (.exr, V rows x U columns)");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   app.add_flag("--hold-features", o.hold_features, "Keep the features fixed during optimisation");
+  app.add_flag("--no-global-reembedding", o.no_global_reembedding,
+               "Optimise one vertex at a time only (no global flat-torus re-embeddings)");
   app.add_option("--final-sweeps", o.final_sweeps,
                  "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
       ->check(CLI::Range(0, 1000));
