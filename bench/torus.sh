@@ -88,5 +88,12 @@ print("Features: *given* are ../shared's `*_features_3x3.txt`; *(transposed)*: t
       "Automatic features: every valid candidate network competes on coarse map energy. "
       "The square domain does not suit long "
       "thin shapes: the linear map of the unit square onto an a×b flat torus scores 2ab/(a²+b²), "
-      "0.2 for a tube ten times longer than round.")
+      "0.2 for a tube ten times longer than round. The refinement re-embeds the whole map on the "
+      "flat torus (refine/flat_reembedding.hpp) besides optimising one vertex at a time; "
+      "`--no-global-reembedding` measures without it (at 59ee1b2: teapot 0.353 / 0.352, "
+      "49 / 54 flips; mug 0.142, 187 flips; cup 0.407, 63 flips; rocker arm 0.565 / 0.564). "
+      "The flips left are grid triangles across the handles' roots, where the map of lowest "
+      "symmetric energy is anisotropic up to 100–200:1 in a few small faces: a grid triangle "
+      "there is a sliver across a bend of the surface, and more appear on finer grids "
+      "(teapot: 14, 40, 106, 268 flips at 64², 128², 256², 512²).")
 PY

@@ -75,6 +75,28 @@ struct MapMeasures {
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy);
 
+/// A flat-torus layout of M² over a domain that is the unit square with
+/// opposite sides identified (domain::torus_3x3(): no cones, the vertex
+/// positions of its mesh are its points in [0, 1)²). Vertex v lies at
+/// `position[v]` (any representative modulo Z²); corner c of face t lies at
+/// position[t[c]] + shift[t][c], a lift into the plane. The shifts fix the
+/// homotopy class: the straight segment between two corners of a face is the
+/// lift of that M² edge, so moving the positions and keeping the shifts
+/// keeps the map's class.
+struct FlatTorusLayout {
+  std::vector<Vec2> position;                         // per vertex (inactive: unused)
+  std::vector<std::array<Eigen::Vector2i, 3>> shift;  // per face
+  Vec2 corner(const std::vector<Triangle>& faces, int t, int c) const {
+    return position[faces[t][c]] + shift[t][c].cast<double>();
+  }
+};
+
+/// The layout of each face of `domain` in the unit square (corner 0 in
+/// [0, 1)², the others next to it), if the domain is a flat unit-square
+/// torus: its mesh positions give that placement, congruent to the faces'
+/// metric and counter-clockwise, with every vertex flat and total area 1.
+std::optional<std::vector<std::array<Vec2, 3>>> unit_square_layouts(const DomainGeometry& domain);
+
 /// The centroid of the kernel of a polygon (the points p for which every
 /// triangle (p, ring[i], ring[i+1]) is counter-clockwise), if it is not empty.
 std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring);
@@ -146,6 +168,24 @@ class SurfaceMap {
   bool face_chart(int t, FaceChart& chart) const;
   /// Symmetric energy of one face given its domain triangle in a chart.
   double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
+
+  // Flat-torus layouts (flat_torus_embedding.cpp), for a unit-square torus
+  // domain with no pinned vertex.
+  /// True if the domain is a flat unit-square torus (unit_square_layouts)
+  /// and no vertex of M² is pinned, so every vertex may go anywhere.
+  bool is_free_flat_torus() const;
+  /// The current map as a flat-torus layout: every active vertex at its
+  /// point of the unit square, the shifts from the faces' charts. Empty if
+  /// not is_free_flat_torus() or the map is invalid.
+  std::optional<FlatTorusLayout> flat_layout() const;
+  /// Symmetric energy of the map a layout describes (as energy()), without
+  /// installing it; HUGE_VAL if a face is not counter-clockwise.
+  double layout_energy(const FlatTorusLayout& layout) const;
+  /// Installs a layout: every active vertex moves to its position, every
+  /// walk is re-traced as the straight segment between its face's corners.
+  /// The new map is kept only if it validates and its energy() is below
+  /// `max_energy`; otherwise the map is left as it was and false returned.
+  bool set_flat_layout(const FlatTorusLayout& layout, double max_energy = HUGE_VAL);
 
  private:
   struct WalkEnd {

@@ -18,10 +18,11 @@ namespace {
 // there are cores (each holds a copy of the surface).
 template <class MakeSetup>
 std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
-                                 std::size_t coarse_vertices) {
+                                 std::size_t coarse_vertices, const RefineOptions& refine_options) {
   if (count == 1) return make_setup(0);
-  RefineOptions coarse;
+  RefineOptions coarse = refine_options;
   coarse.stop_at_vertices = coarse_vertices;
+  coarse.progress = nullptr;
   const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
   std::unique_ptr<MapSetup> best;
   double best_energy = 0;
@@ -60,7 +61,8 @@ std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
 
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const DomainGeometry& domain, const MapOptions& options,
-                                         std::size_t coarse_vertices) {
+                                         std::size_t coarse_vertices,
+                                         const RefineOptions& refine_options) {
   if (networks.empty()) throw std::invalid_argument("choose_network: no network");
   return choose(
       networks.size(),
@@ -71,7 +73,7 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
         setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
         return setup;
       },
-      coarse_vertices);
+      coarse_vertices, refine_options);
 }
 
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
@@ -87,7 +89,7 @@ std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
         setup->map = std::make_unique<SurfaceMap>(*setup->owned_domain, setup->pm, options);
         return setup;
       },
-      coarse_vertices);
+      coarse_vertices, RefineOptions{});
 }
 
 }  // namespace ism

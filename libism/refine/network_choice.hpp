@@ -33,10 +33,14 @@ struct DomainCandidate {
 /// `coarse_vertices` and returns the lowest-energy one, refined to that
 /// level only (refine() it again to finish). A candidate whose map throws
 /// std::runtime_error drops out; if all do, the first error is rethrown.
-/// `domain` must outlive the result.
+/// `domain` must outlive the result. The coarse refinement runs with
+/// `refine_options` (its stop and progress replaced), e.g. to compare the
+/// candidates after the global flat-torus re-embeddings the final
+/// refinement will make too.
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const DomainGeometry& domain, const MapOptions& options,
-                                         std::size_t coarse_vertices = 1000);
+                                         std::size_t coarse_vertices = 1000,
+                                         const RefineOptions& refine_options = {});
 
 /// The same choice among candidates that differ in their domain as well;
 /// the result owns its domain.

@@ -1,5 +1,7 @@
 #include "refine/refine.hpp"
 
+#include "refine/flat_reembedding.hpp"
+
 #include <stdexcept>
 
 namespace ism {
@@ -45,6 +47,12 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     if (auto problem = map.validate())
       throw std::runtime_error(std::string("map invalid ") + when + ": " + *problem);
   };
+  const bool reembed = options.global_flat_reembedding && map.is_free_flat_torus();
+  auto reembedding = [&] {
+    ++stats.reembeddings;
+    if (global_flat_reembedding(map).applied) ++stats.reembeddings_applied;
+    check("after a global re-embedding");
+  };
   std::size_t last_sweep = map.n_vertices();
   const std::size_t total = map.splits_total();
   for (int vs; map.n_vertices() < options.stop_at_vertices && (vs = map.split_next()) >= 0;) {
@@ -57,6 +65,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     if (double(map.n_vertices()) >= options.sweep_growth * double(last_sweep)) {
       // Sweep until this level has settled: cheap while the mesh is coarse,
       // and it is there that the large-scale shape of the map is decided.
+      if (reembed && map.n_vertices() <= options.reembed_max_vertices) reembedding();
       double energy = map.energy();
       // Coarse levels are cheap: let them converge further.
       const bool coarse = map.n_vertices() < options.coarse_vertices;
@@ -79,6 +88,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     stats.energy = map.energy();
     return stats;
   }
+  if (reembed && options.reembed_final) reembedding();
   stats.energy_before_final = map.energy();
   double energy = stats.energy_before_final;
   for (int i = 0; i < options.max_final_sweeps; ++i) {

@@ -20,6 +20,17 @@ struct RefineOptions {
   /// Stop the refinement once the surface has this many vertices (skipping
   /// the final sweeps); refine() can be called again to go on.
   std::size_t stop_at_vertices = SIZE_MAX;
+  /// Global flat-torus re-embedding (flat_reembedding.hpp) on domains where
+  /// it applies (SurfaceMap::is_free_flat_torus: the unit-square torus with
+  /// its features released): before the sweeps of each level while the
+  /// surface has at most `reembed_max_vertices` vertices, and before the
+  /// final sweeps if `reembed_final`. Each is kept only if it lowers the
+  /// symmetric energy; the vertex-at-a-time sweeps follow it. The final
+  /// one decides the result (the level ones cost little and keep the
+  /// coarse maps, which choose_network compares, out of squeezed states).
+  bool global_flat_reembedding = false;
+  std::size_t reembed_max_vertices = 3000;
+  bool reembed_final = true;
   /// Call validate() after every split and sweep (for tests; slow).
   bool validate_each_step = false;
   std::function<void(double)> progress;  // fraction of splits done
@@ -32,6 +43,7 @@ struct RefineStats {
   std::size_t optimizations = 0;
   std::size_t single_face_rings = 0;  // optimisations whose one-ring lay in one M¹ face
   double energy_before_final = 0, energy = 0;
+  std::size_t reembeddings = 0, reembeddings_applied = 0;  // global flat-torus re-embeddings
 };
 
 /// Refines `map` to the full resolution of its progressive mesh. Throws

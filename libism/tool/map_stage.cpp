@@ -35,6 +35,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
         out.result.setup = choose(settings.map_options(i));
         RefineOptions options;
         options.max_final_sweeps = settings.final_sweeps;
+        options.global_flat_reembedding = stage.global_flat_reembedding;
         if (i == 0) options.progress = [&](double f) { progress.update(f); };
         out.result.stats = refine(*out.result.setup->map, options);
         out.score = score(*out.result.setup->map);

@@ -39,7 +39,10 @@ struct MapSettings {
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
-  std::string hint;          // what to try when the optimisation fails
+  /// RefineOptions::global_flat_reembedding (only where it applies: a flat
+  /// torus domain with released features).
+  bool global_flat_reembedding = false;
+  std::string hint;  // what to try when the optimisation fails
 };
 
 /// Scores a refined map; the variant with the highest score is kept.

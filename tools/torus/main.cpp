@@ -36,6 +36,7 @@ struct Options {
   std::string input, output, features, image, dump_patches;
   std::string size = "128";
   bool triangulate = false;
+  bool no_global_reembedding = false;
   int draco_bits = 14;
   // The one-way weight folds fewer grid triangles on most models (teapot
   // 49 -> 22) and the symmetric energy on others (rocker_arm 9 -> 0).
@@ -157,6 +158,9 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   // The unit square's metric: the stretch optimised is the stretch the grid samples with.
   const DomainGeometry domain(torus, torus_3x3_lengths(torus));
   // Progressive meshes and coarse maps of the candidates, then the refinement.
+  // The domain is flat: with the features released, global re-embeddings
+  // (refine/flat_reembedding.hpp) open what single-vertex moves leave
+  // squeezed, in the candidates' coarse maps as in the final refinement.
   tool::Progress& progress = run.stage("map");
   // The variant kept folds fewest grid triangles, then has the best one-way stretch.
   auto sample = [&](const SurfaceMap& map) {
@@ -171,10 +175,13 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
       run, progress,
       {.input = o.input,
        .dump_patches = o.dump_patches,
+       .global_flat_reembedding = !o.no_global_reembedding,
        .hint = "try --hold-features or other --features"},
       o.map,
       [&](const MapOptions& options) {
-        return choose_network(candidates.networks, domain, options);
+        RefineOptions coarse;
+        coarse.global_flat_reembedding = !o.no_global_reembedding;
+        return choose_network(candidates.networks, domain, options, 1000, coarse);
       },
       [&](const SurfaceMap& map) {
         const TorusGrid grid = sample(map);
@@ -259,6 +266,8 @@ int main(int argc, char** argv) {
   app.add_option("--image", o.image, "Periodic geometry image (.exr, V rows x U columns)");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   tool::add_map_options(app, o.map);
+  app.add_flag("--no-global-reembedding", o.no_global_reembedding,
+               "Optimise one vertex at a time only (no global flat-torus re-embeddings)");
   app.add_option("--draco-bits", o.draco_bits, "Draco position quantisation bits (.drc)")
       ->check(CLI::Range(8, 30));
   tool::add_common_options(app, common);

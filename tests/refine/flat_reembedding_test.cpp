@@ -1,0 +1,234 @@
+// The global flat-torus re-embedding: its energy is the map's, its solver
+// gives back a layout from that layout's own weights (the lattice offsets
+// carry the map's class), symmetric positive weights embed the torus, and
+// the re-embedding repairs a distorted map and frees one that the
+// vertex-at-a-time optimisation left stuck (the mug).
+#include "refine/flat_reembedding.hpp"
+#include "domain/domain.hpp"
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "mesh/mesh_check.hpp"
+#include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine.hpp"
+#include "shapes/shapes.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace ism {
+namespace {
+
+struct TorusMap {
+  TriangleMesh grid = domain::torus_3x3();
+  DomainGeometry geometry{grid, torus_3x3_lengths(grid)};
+  PathNetwork network;
+  ProgressiveMesh pm;
+  SurfaceMap map;
+  explicit TorusMap(const TriangleMesh& surface)
+      : network(trace_torus_network(surface)),
+        pm(simplify_constrained(network, grid)),
+        map(geometry, pm) {}
+};
+
+int first_active(const SurfaceMap& map) {
+  int v = 0;
+  while (!map.is_active(v)) ++v;
+  return v;
+}
+
+TEST(FlatReembedding, EnergyAndGradientAreTheMaps) {
+  TorusMap s(shapes::torus(1500, 2, 1));
+  RefineOptions options;
+  options.stop_at_vertices = 400;
+  refine(s.map, options);
+  const FlatTorusLayout layout = *s.map.flat_layout();
+  const FlatLayoutEnergy energy(s.map);
+  std::vector<Vec2> gradient;
+  const double e = energy(layout, &gradient);
+  EXPECT_NEAR(e, s.map.energy(), 1e-10 * e);
+  // Central differences at a spread of vertices, both coordinates.
+  int checked = 0;
+  for (std::size_t v = 0; v < layout.position.size(); v += 23) {
+    if (!s.map.is_active(int(v))) continue;
+    for (int k = 0; k < 2; ++k) {
+      const double h = 1e-7;
+      FlatTorusLayout moved = layout;
+      moved.position[v][k] += h;
+      const double plus = energy(moved);
+      moved.position[v][k] -= 2 * h;
+      const double minus = energy(moved);
+      const double numeric = (plus - minus) / (2 * h);
+      EXPECT_NEAR(gradient[v][k], numeric, 1e-5 * (std::abs(numeric) + 1e-3 * e))
+          << "vertex " << v << " coordinate " << k;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 20);
+  // A face turned over (its first corner reflected through its second)
+  // has no energy.
+  FlatTorusLayout folded = layout;
+  const auto& faces = s.map.faces();
+  const Vec2 c0 = layout.corner(faces, 0, 0), c1 = layout.corner(faces, 0, 1);
+  folded.position[faces[0][0]] = 2 * c1 - c0 - layout.shift[0][0].cast<double>();
+  EXPECT_EQ(energy(folded), HUGE_VAL);
+  EXPECT_EQ(s.map.layout_energy(folded), HUGE_VAL);
+}
+
+TEST(FlatReembedding, LatticeOffsetsAndOwnWeightsGiveTheLayoutBack) {
+  TorusMap s(shapes::torus(1500, 2, 1));
+  refine(s.map);
+  const FlatTorusLayout layout = *s.map.flat_layout();
+  // Each vertex is the mean-value combination of its neighbours' lifted
+  // corners, so solving with those weights and the extracted offsets, one
+  // vertex held, must give every other position back (not only modulo 1).
+  const int fixed = first_active(s.map);
+  const auto solved =
+      solve_flat_layout(s.map, layout, layout_mean_value_weights(s.map, layout), fixed);
+  ASSERT_TRUE(solved.has_value());
+  double worst = 0;
+  for (std::size_t v = 0; v < layout.position.size(); ++v)
+    if (s.map.is_active(int(v)))
+      worst = std::max(worst, (solved->position[v] - layout.position[v]).norm());
+  EXPECT_LT(worst, 1e-9);
+
+  // With the offsets dropped (all shifts zero) the solve collapses to a
+  // point: the offsets are what carries the map's class.
+  FlatTorusLayout no_class = layout;
+  for (auto& t : no_class.shift) t.fill(Eigen::Vector2i::Zero());
+  const auto collapsed =
+      solve_flat_layout(s.map, no_class, layout_mean_value_weights(s.map, layout), fixed);
+  ASSERT_TRUE(collapsed.has_value());
+  for (std::size_t v = 0; v < layout.position.size(); ++v) {
+    if (!s.map.is_active(int(v))) continue;
+    EXPECT_LT((collapsed->position[v] - layout.position[fixed]).norm(), 1e-9);
+  }
+}
+
+TEST(FlatReembedding, SymmetricPositiveWeightsEmbedTheTorus) {
+  TorusMap s(shapes::torus(3000, 2, 1));
+  RefineOptions options;
+  options.stop_at_vertices = 1000;
+  refine(s.map, options);
+  const FlatTorusLayout classes = *s.map.flat_layout();
+  const auto& faces = s.map.faces();
+  const CornerWeights weights = symmetrized(faces, surface_mean_value_weights(s.map));
+  const auto harmonic = solve_flat_layout(s.map, classes, weights, first_active(s.map));
+  ASSERT_TRUE(harmonic.has_value());
+  double area = 0;
+  for (std::size_t t = 0; t < faces.size(); ++t) {
+    const double a =
+        0.5 * orient(harmonic->corner(faces, int(t), 0), harmonic->corner(faces, int(t), 1),
+                     harmonic->corner(faces, int(t), 2));
+    EXPECT_GT(a, 0) << "face " << t;
+    area += a;
+  }
+  EXPECT_NEAR(area, 1.0, 1e-9);
+  // And it installs as a valid map.
+  EXPECT_TRUE(s.map.set_flat_layout(*harmonic));
+  EXPECT_EQ(s.map.validate(), std::nullopt);
+}
+
+TEST(FlatReembedding, RepairsADistortedMap) {
+  TorusMap s(shapes::torus(1500, 2, 1));
+  SurfaceMap& map = s.map;
+  refine(map);
+  const double optimised = map.energy();
+  // Two periodic shears: a bijection of the torus far from the optimum.
+  FlatTorusLayout layout = *map.flat_layout();
+  for (Vec2& p : layout.position) {
+    p.x() += 0.15 * std::sin(2 * M_PI * p.y());
+    p.y() += 0.15 * std::sin(2 * M_PI * p.x());
+  }
+  ASSERT_TRUE(map.set_flat_layout(layout));
+  const double distorted = map.energy();
+  ASSERT_GT(distorted, 1.3 * optimised);
+
+  const FlatReembeddingStats stats = global_flat_reembedding(map);
+  EXPECT_TRUE(stats.applied);
+  EXPECT_EQ(map.validate(), std::nullopt);
+  EXPECT_EQ(stats.energy_before, distorted);
+  EXPECT_EQ(stats.energy_after, map.energy());
+  // Back to the optimised map's level in one step (the vertex-at-a-time
+  // refinement needed the whole coarse-to-fine run for it).
+  EXPECT_LT(map.energy(), 1.01 * optimised);
+  std::printf("  distorted %.4f -> %.4f (vertex-at-a-time optimum %.4f), %d iterations\n",
+              distorted, map.energy(), optimised, stats.iterations);
+}
+
+TEST(FlatReembedding, DoesNothingWhereItDoesNotApply) {
+  // The octahedron has cones: no flat layout, the map is left alone.
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry geometry(octahedron,
+                                octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  const TriangleMesh sphere = shapes::sphere(800);
+  const PathNetwork network = trace_octahedral_network(sphere);
+  const ProgressiveMesh pm = simplify_constrained(network, octahedron);
+  SurfaceMap map(geometry, pm);
+  RefineOptions options;
+  options.stop_at_vertices = 200;
+  refine(map, options);
+  const double before = map.energy();
+  EXPECT_FALSE(global_flat_reembedding(map).applied);
+  EXPECT_EQ(map.energy(), before);
+  // refine() with the option on behaves as without it there.
+  SurfaceMap with(geometry, pm), without(geometry, pm);
+  RefineOptions on;
+  on.global_flat_reembedding = true;
+  on.reembed_max_vertices = SIZE_MAX;
+  const RefineStats stats = refine(with, on);
+  refine(without);
+  EXPECT_EQ(stats.reembeddings, 0u);
+  EXPECT_EQ(with.energy(), without.energy());
+}
+
+TEST(FlatReembedding, RefineWithReembeddingsStaysValid) {
+  TorusMap s(shapes::torus(1500, 2, 1));
+  RefineOptions options;
+  options.global_flat_reembedding = true;
+  options.reembed_max_vertices = SIZE_MAX;
+  options.validate_each_step = true;  // throws on an invalid map
+  const RefineStats stats = refine(s.map, options);
+  EXPECT_EQ(s.map.validate(), std::nullopt);
+  EXPECT_GT(stats.reembeddings, 3u);
+  EXPECT_GT(stats.reembeddings_applied, 0u);
+  TorusMap plain(shapes::torus(1500, 2, 1));
+  refine(plain.map);
+  EXPECT_LT(s.map.energy(), plain.map.energy() * (1 + 1e-3));
+}
+
+// The mug's map, optimised a vertex at a time, squeezes strips of faces
+// that single moves cannot open; the global step does.
+TEST(FlatReembedding, FreesTheMugsStuckMap) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh mug =
+      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "mug.obj")).mesh;
+  TorusMap s(mug);
+  RefineOptions options;
+  options.stop_at_vertices = 3000;
+  refine(s.map, options);
+  // Sweeps until they gain little, then more sweeps hardly help ...
+  double stuck = s.map.energy();
+  for (int i = 0; i < 40; ++i) {
+    const double gain = optimization_sweep(s.map);
+    stuck -= gain;
+    if (gain < 1e-3 * stuck) break;
+  }
+  stuck = s.map.energy();
+  for (int i = 0; i < 3; ++i) optimization_sweep(s.map);
+  const double swept = s.map.energy();
+  EXPECT_GT(swept, 0.97 * stuck);
+  // ... the global re-embedding lowers the energy by a third or more.
+  const FlatReembeddingStats stats = global_flat_reembedding(s.map);
+  EXPECT_TRUE(stats.applied);
+  EXPECT_EQ(s.map.validate(), std::nullopt);
+  EXPECT_LT(s.map.energy(), 0.67 * swept);
+  std::printf("  mug at %zu vertices: %.3f, swept %.3f, re-embedded %.3f\n", s.map.n_vertices(),
+              stuck, swept, s.map.energy());
+}
+
+}  // namespace
+}  // namespace ism
