@@ -10,6 +10,8 @@
 #include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
 
+#include "torus_map_fixture.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,17 +20,7 @@
 namespace ism {
 namespace {
 
-struct TorusMap {
-  TriangleMesh grid = domain::torus_3x3();
-  DomainGeometry geometry{grid, torus_3x3_lengths(grid)};
-  PathNetwork network;
-  ProgressiveMesh pm;
-  SurfaceMap map;
-  explicit TorusMap(const TriangleMesh& surface, MapOptions options = {})
-      : network(trace_torus_network(surface)),
-        pm(simplify_constrained(network, grid)),
-        map(geometry, pm, options) {}
-};
+using test::TorusMap;
 
 // The vector of every half-edge (u, w) in the layout, from the face it bounds.
 std::map<std::pair<int, int>, Vec2> edge_vectors(const SurfaceMap& map,
@@ -86,16 +78,7 @@ TEST(FlatTorusEmbedding, LayoutDescribesTheMapAndInstallsItBack) {
 
   // Every face counter-clockwise, covering the unit square once; its
   // energy is the map's.
-  const auto& faces = map.faces();
-  double area = 0;
-  for (std::size_t t = 0; t < faces.size(); ++t) {
-    const double a =
-        0.5 * orient(layout->corner(faces, int(t), 0), layout->corner(faces, int(t), 1),
-                     layout->corner(faces, int(t), 2));
-    ASSERT_GT(a, 0) << "face " << t;
-    area += a;
-  }
-  EXPECT_NEAR(area, 1.0, 1e-9);
+  test::expect_layout_tiles_the_torus(map.faces(), *layout);
   const double energy = map.energy();
   EXPECT_NEAR(map.layout_energy(*layout), energy, 1e-9 * energy);
 

@@ -14,6 +14,7 @@
 #include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
+#include "torus_map_fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,17 +23,7 @@
 namespace ism {
 namespace {
 
-struct TorusMap {
-  TriangleMesh grid = domain::torus_3x3();
-  DomainGeometry geometry{grid, torus_3x3_lengths(grid)};
-  PathNetwork network;
-  ProgressiveMesh pm;
-  SurfaceMap map;
-  explicit TorusMap(const TriangleMesh& surface)
-      : network(trace_torus_network(surface)),
-        pm(simplify_constrained(network, grid)),
-        map(geometry, pm) {}
-};
+using test::TorusMap;
 
 int first_active(const SurfaceMap& map) {
   int v = 0;
@@ -118,15 +109,7 @@ TEST(FlatReembedding, SymmetricPositiveWeightsEmbedTheTorus) {
   const CornerWeights weights = symmetrized(faces, surface_mean_value_weights(s.map));
   const auto harmonic = solve_flat_layout(s.map, classes, weights, first_active(s.map));
   ASSERT_TRUE(harmonic.has_value());
-  double area = 0;
-  for (std::size_t t = 0; t < faces.size(); ++t) {
-    const double a =
-        0.5 * orient(harmonic->corner(faces, int(t), 0), harmonic->corner(faces, int(t), 1),
-                     harmonic->corner(faces, int(t), 2));
-    EXPECT_GT(a, 0) << "face " << t;
-    area += a;
-  }
-  EXPECT_NEAR(area, 1.0, 1e-9);
+  test::expect_layout_tiles_the_torus(faces, *harmonic);
   // And it installs as a valid map.
   EXPECT_TRUE(s.map.set_flat_layout(*harmonic));
   EXPECT_EQ(s.map.validate(), std::nullopt);
