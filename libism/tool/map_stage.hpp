@@ -1,10 +1,11 @@
 #pragma once
-// The map stage as every front end runs it once a network is chosen: the
-// optional patch dump, then the refinement to full resolution with progress,
-// a failure of the map core turned into one line a user can act on.
+// The map stage as every front end runs it once its candidate networks are
+// traced: choice of network and coarse map, refinement to full resolution
+// with progress, the optional patch dump, a failure of the map core turned
+// into one line a user can act on.
 //
-// The coarse map can be refined in several variants of the optimised energy
-// at once (one per core), the front end's score keeping one: which energy
+// It runs in several variants of the optimised energy at once (one per
+// core), the front end's score keeping one: which energy
 // reaches the better map depends on the surface (a low inverse-stretch weight
 // lifts the one-way efficiency of most models but traps flat-faced ones such
 // as cube.obj in folds the symmetric energy avoids).
@@ -32,8 +33,8 @@ struct MapSettings {
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
   std::vector<MapVariant> variants{MapVariant{}};
-  /// The options of variant i (the coarse maps use variant 0).
-  MapOptions map_options(std::size_t i = 0) const;
+  /// The options of variant i.
+  MapOptions map_options(std::size_t i) const;
 };
 
 struct MapStage {
