@@ -260,16 +260,6 @@ void SurfaceMap::restore_region(const RegionState& state) {
   single_face_rings_ = state.single_face_rings;
 }
 
-double SurfaceMap::faces_energy(const std::vector<int>& faces) const {
-  double sum = 0.0;
-  FaceChart chart;
-  for (int t : faces) {
-    if (!face_chart(t, chart)) return HUGE_VAL;
-    sum += face_energy(t, chart.corner[0], chart.corner[1], chart.corner[2]);
-  }
-  return sum;
-}
-
 double SurfaceMap::relocate_cone_relaxed(int v, int rings, int passes) {
   const int x = at_domain_vertex_[v];
   if (x < 0 || !domain_.is_cone(x) || !options_.release_features || rings < 1) return 0.0;

@@ -370,13 +370,21 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
              (det * det);
 }
 
+double SurfaceMap::face_energy(int t) const {
+  FaceChart chart;
+  if (!face_chart(t, chart)) return HUGE_VAL;
+  return face_energy(t, chart.corner[0], chart.corner[1], chart.corner[2]);
+}
+
 double SurfaceMap::energy() const {
   double sum = 0.0;
-  FaceChart chart;
-  for (std::size_t t = 0; t < faces_.size(); ++t) {
-    if (!face_chart(int(t), chart)) return HUGE_VAL;
-    sum += face_energy(int(t), chart.corner[0], chart.corner[1], chart.corner[2]);
-  }
+  for (std::size_t t = 0; t < faces_.size() && sum < HUGE_VAL; ++t) sum += face_energy(int(t));
+  return sum;
+}
+
+double SurfaceMap::faces_energy(const std::vector<int>& faces) const {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < faces.size() && sum < HUGE_VAL; ++i) sum += face_energy(faces[i]);
   return sum;
 }
 

@@ -227,6 +227,9 @@ class SurfaceMap {
   std::vector<int> rings_around(int v, int rings) const;
   RegionState save_region(const std::vector<int>& vertices) const;
   void restore_region(const RegionState& state);
+  /// Energy of face t in its chart (HUGE_VAL without a valid chart), and
+  /// summed over a list of faces.
+  double face_energy(int t) const;
   double faces_energy(const std::vector<int>& faces) const;
   /// The split of a vertex on a cone whose new vertex takes at least half
   /// of the cone's angle: the new vertex takes the cone, the old one moves.
