@@ -1,5 +1,7 @@
 #include "map/surface_map.hpp"
 
+#include "mesh/curvature.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,10 +19,6 @@ constexpr double kInside = -1e-10;  // barycentric tolerance of point-in-face te
 // terms), so that no vertex lies on an M¹ edge and crossings stay distinct.
 constexpr double kInteriorBary = 1e-9;
 
-bool inside(const Eigen::Vector3d& b) {
-  return b.minCoeff() >= kInside;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------- set-up
@@ -35,6 +33,8 @@ SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, 
   pinned_.assign(n, 0);
   if (pm.base_vertices.size() != domain.n_vertices())
     throw std::invalid_argument("the base mesh and the domain have different vertex counts");
+  if (options_.curvature_weight > 0)
+    forward_density_ = curvature_density(replay(pm), options_.curvature_weight);
 
   std::vector<int> domain_vertex_of(n, -1);
   for (std::size_t i = 0; i < pm.base_vertices.size(); ++i) {
@@ -365,9 +365,16 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
   const double total_d = domain_.total_area(), total_m = surface_area_;
   // Forward stretch weighted by range area, backward by domain area, each
   // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
-  return area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
+  return forward_weight(t) * area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
          options_.inverse_stretch_weight * area_d * (total_m / (total_d * total_d)) * 0.5 * frob /
              (det * det);
+}
+
+double SurfaceMap::forward_weight(int t) const {
+  if (forward_density_.empty()) return 1.0;
+  const Triangle& tri = faces_[t];
+  const auto& d = forward_density_;
+  return (d[tri[0]] + d[tri[1]] + d[tri[2]]) / 3;
 }
 
 double SurfaceMap::face_energy(int t) const {

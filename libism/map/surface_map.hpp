@@ -60,6 +60,12 @@ struct MapOptions {
   /// neighbourhood has followed the cone are found with 2 (bunny, regular
   /// octahedron: one-way efficiency 0.709 -> 0.716, gargoyle 0.668 -> 0.716).
   int cone_relaxation_rings = 2;
+  /// The forward stretch of a face is weighted by the mean over its corners
+  /// of curvature_density(full-resolution M², this) = 1 + w · κ / κ_rms:
+  /// the map shrinks the surface's image where it bends, which samples it
+  /// more densely there, where a piecewise-linear remesh errs most (higher
+  /// PSNR for a little stretch). 0: the plain stretch.
+  double curvature_weight = 0.0;
 };
 
 /// Stretch measures of the map (DESIGN.md §2), from its pieces.
@@ -168,6 +174,8 @@ class SurfaceMap {
   bool face_chart(int t, FaceChart& chart) const;
   /// Symmetric energy of one face given its domain triangle in a chart.
   double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
+  /// Weight of face t's forward stretch (MapOptions::curvature_weight).
+  double forward_weight(int t) const;
 
   // Flat-torus layouts (flat_torus_embedding.cpp), for a unit-square torus
   // domain with no pinned vertex.
@@ -287,6 +295,7 @@ class SurfaceMap {
   std::vector<char> pinned_;
   std::size_t next_split_ = 0, active_vertices_ = 0;
   double surface_area_ = 0;
+  std::vector<double> forward_density_;  // per M² vertex; empty: 1 (curvature_weight 0)
   std::size_t single_face_rings_ = 0, optimizations_ = 0;
 };
 

@@ -135,7 +135,7 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map) : faces_(map.faces()) 
   forward_.resize(nf);
   backward_.resize(nf);
   for (std::size_t t = 0; t < nf; ++t) {
-    forward_[t] = 0.5 * c_forward * area[t];
+    forward_[t] = 0.5 * c_forward * map.forward_weight(int(t)) * area[t];
     backward_[t] = 0.5 * c_backward / (area[t] * area[t]);
   }
 }

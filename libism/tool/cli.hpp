@@ -15,7 +15,7 @@ inline void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--report", options.report_path, "Write a JSON report (sizes, timings, measures)");
 }
 
-/// --hold-features, --final-sweeps and --inverse-weight, the same in every
+/// --hold-features, --final-sweeps, --inverse-weight and --curvature-weight, the same in every
 /// front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
   app.add_flag("--hold-features", settings.hold_features,
@@ -30,6 +30,10 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
          "symmetric stretch, lower favours the one-way stretch domain -> surface (default: "
          "the tool's variants, each refined and the best kept)")
       ->check(CLI::Range(0.001, 1.0));
+  app.add_option("--curvature-weight", settings.curvature_weight,
+                 "Weight the stretch by 1 + W * curvature / its RMS: more samples where the "
+                 "surface bends, a closer remesh (PSNR) for a little stretch")
+      ->check(CLI::Range(0.0, 100.0));
 }
 
 }  // namespace ism::tool

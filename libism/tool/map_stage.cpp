@@ -14,7 +14,8 @@ MapOptions MapSettings::map_options(std::size_t i) const {
   const MapVariant& v = variants.at(i);
   return {.release_features = !hold_features,
           .inverse_stretch_weight = v.inverse_stretch_weight,
-          .cone_relaxation_rings = v.cone_relaxation_rings};
+          .cone_relaxation_rings = v.cone_relaxation_rings,
+          .curvature_weight = curvature_weight};
 }
 
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
@@ -61,6 +62,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
 
   Json& r = run.report();
   r["features_released"] = !settings.hold_features;
+  r["curvature_weight"] = settings.curvature_weight;
   Json& variants = r["map_variants"] = Json::array();
   for (std::size_t i = 0; i < n; ++i) {
     Json v = Json::object();

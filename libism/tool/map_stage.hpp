@@ -33,6 +33,8 @@ struct MapSettings {
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
   std::vector<MapVariant> variants{MapVariant{}};
+  /// MapOptions::curvature_weight of every variant (--curvature-weight).
+  double curvature_weight = 0.0;
   /// The options of variant i.
   MapOptions map_options(std::size_t i) const;
 };

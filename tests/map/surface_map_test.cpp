@@ -38,8 +38,8 @@ TEST(SurfaceMap, BaseMapIsValid) {
 
 TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
   // Variants: right isosceles; equilateral; features held; cones moved
-  // without relaxation; a low inverse-stretch weight.
-  for (int variant = 0; variant < 5; ++variant) {
+  // without relaxation; a low inverse-stretch weight; curvature-weighted.
+  for (int variant = 0; variant < 6; ++variant) {
     SCOPED_TRACE(variant);
     const DomainMetric metric =
         variant == 1 ? DomainMetric::equilateral : DomainMetric::right_isosceles;
@@ -47,7 +47,8 @@ TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
     SurfaceMap map(s.geometry, s.pm,
                    {.release_features = variant != 2,
                     .inverse_stretch_weight = variant == 4 ? 0.1 : 1.0,
-                    .cone_relaxation_rings = variant == 3 ? 0 : 2});
+                    .cone_relaxation_rings = variant == 3 ? 0 : 2,
+                    .curvature_weight = variant == 5 ? 2.0 : 0.0});
     for (int vs; (vs = map.split_next()) >= 0;) {
       ASSERT_EQ(map.validate(), std::nullopt) << "after split " << map.splits_applied();
       const double before = map.energy();
@@ -67,7 +68,9 @@ TEST(SurfaceMap, ValidAfterEverySplitAndOptimisation) {
         const double before_c = map.energy();
         const double g = map.relocate_cone(v);
         ASSERT_EQ(map.validate(), std::nullopt) << "after moving cone " << x << " from " << v;
-        if (g > 0) EXPECT_NEAR(before_c - map.energy(), g, 1e-6 * before_c);
+        if (g > 0) {
+          EXPECT_NEAR(before_c - map.energy(), g, 1e-6 * before_c);
+        }
         gain += g;
       }
       const double after = map.energy();
@@ -94,6 +97,34 @@ TEST(SurfaceMap, RefinedSphereBeatsTheAreaRatioMap) {
       m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency, stats.optimizations,
       100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
   EXPECT_GE(m.forward_efficiency, 0.83);
+}
+
+TEST(SurfaceMap, CurvatureWeightGivesCurvedRegionsMoreOfTheDomain) {
+  // An ellipsoid 3:1:1 bends most at its tips: the curvature-weighted map
+  // gives the surface there a larger share of the octahedron (denser samples).
+  const TriangleMesh ellipsoid = shapes::ellipsoid(3000, Vec3(3, 1, 1));
+  std::array<double, 2> tip_share{};
+  for (int weighted = 0; weighted < 2; ++weighted) {
+    OctahedralSetup s(ellipsoid, DomainMetric::right_isosceles);
+    SurfaceMap map(s.geometry, s.pm, {.curvature_weight = weighted ? 2.0 : 0.0});
+    refine(map);
+    ASSERT_EQ(map.validate(), std::nullopt);
+    double tips = 0, total = 0;
+    for (std::size_t t = 0; t < map.n_faces(); ++t) {
+      SurfaceMap::FaceChart chart;
+      ASSERT_TRUE(map.face_chart(int(t), chart));
+      const Vec2 u = chart.corner[1] - chart.corner[0], w = chart.corner[2] - chart.corner[0];
+      const double area = 0.5 * (u.x() * w.y() - u.y() * w.x());
+      const Triangle& f = map.faces()[t];
+      const auto& p = map.positions();
+      total += area;
+      if (std::abs((p[f[0]] + p[f[1]] + p[f[2]]).x() / 3) > 2.2) tips += area;
+    }
+    tip_share[weighted] = tips / total;
+  }
+  std::printf("domain share of the tips |x| > 2.2: plain %.4f, curvature-weighted %.4f\n",
+              tip_share[0], tip_share[1]);
+  EXPECT_GT(tip_share[1], 1.1 * tip_share[0]);
 }
 
 }  // namespace

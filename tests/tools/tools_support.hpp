@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -39,6 +40,18 @@ inline ToolResult run_tool(const std::string& tool, const std::string& args) {
                           out.string() + " 2>" + err.string();
   const int raw = std::system(cmd.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
+}
+
+/// The number after "key": in a report (the first occurrence); a test
+/// failure and NaN when the key is missing.
+inline double report_number(const std::string& json, const std::string& key) {
+  const std::string quoted = "\"" + key + "\": ";
+  const std::size_t at = json.find(quoted);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << key << " not in the report";
+    return NAN;
+  }
+  return std::strtod(json.c_str() + at + quoted.size(), nullptr);
 }
 
 }  // namespace ism::test

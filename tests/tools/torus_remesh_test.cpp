@@ -20,20 +20,10 @@
 namespace {
 
 namespace fs = std::filesystem;
+using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
 using ism::test::slurp;
-
-// The number after "key": in a report (the first occurrence).
-double report_number(const std::string& json, const std::string& key) {
-  const std::string quoted = "\"" + key + "\": ";
-  const std::size_t at = json.find(quoted);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << key << " not in the report";
-    return NAN;
-  }
-  return std::strtod(json.c_str() + at + quoted.size(), nullptr);
-}
 
 // The written grid: U·V faces (quads, or two triangles each), U·V
 // vertices of valence 4, a closed genus-1 surface with nothing to repair,

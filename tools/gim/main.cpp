@@ -36,6 +36,8 @@ struct Options {
                                      {.inverse_stretch_weight = 1, .cone_relaxation_rings = 0}}};
 };
 
+constexpr double kImageCurvatureWeight = 0.5;
+
 // Area-weighted vertex normals of the map's surface.
 std::vector<Vec3> vertex_normals(const SurfaceMap& map) {
   std::vector<Vec3> n(map.positions().size(), Vec3::Zero());
@@ -200,5 +202,11 @@ int main(int argc, char** argv) {
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
+  // The image is judged by how closely it rebuilds the surface: spend samples
+  // where the surface bends (bunny: PSNR 79.5 -> 80.0 dB for 0.771 -> 0.768
+  // efficiency). The equilateral metric is the paper's stretch-optimal map:
+  // plain stretch unless asked.
+  if (app.count("--curvature-weight") == 0)
+    o.map.curvature_weight = o.metric == "equilateral" ? 0.0 : kImageCurvatureWeight;
   return tool::run_main("gim-remesh", [&] { return run_gim(o, common); });
 }
