@@ -15,9 +15,13 @@ for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cub
   "$bin/gim-remesh" -q "$models/$m.obj" -o "$work/$m.exr" --report "$work/$m.json" || echo "{}" > "$work/$m.json"
   "$bin/gim-remesh" -q "$models/$m.obj" -o "$work/$m-eq.exr" --metric equilateral --report "$work/$m-eq.json" || echo "{}" > "$work/$m-eq.json"
 done
-python3 - "$work" <<'PY'
+commit="${COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
+if [ -z "${COMMIT:-}" ] && [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
+  commit="$commit with uncommitted changes"
+fi
+python3 - "$work" "$commit" <<'PY'
 import json, os, platform, sys
-work = sys.argv[1]
+work, commit = sys.argv[1], sys.argv[2]
 # Published figures: paper Table 1 (regular octahedron, one-way efficiency and
 # PSNR) and the spherical pipeline of Praun & Hoppe measured on the same files
 # (square-domain efficiency, flips, PSNR) as issue 5 quotes them.
@@ -29,9 +33,10 @@ print(f"gim-remesh, 257x257, {os.cpu_count()} cores ({platform.machine()}). Time
 print("Default run (right-isosceles metric): map efficiency domain->surface, image efficiency on the unit square, flipped grid triangles, PSNR of the remesh.")
 print("Equilateral run (`--metric equilateral`): image efficiency on the regular octahedron |x|+|y|+|z|=1, as in the paper's Table 1.")
 print()
-print("`map`: the progressive meshes and coarse maps of every candidate network, then the refinement, for both map variants side by side (inverse-stretch weight 0.1 and 1; the better one-way map is kept, README "Measures").")
+print("`map`: the progressive meshes and coarse maps of every candidate network, then the refinement, for both map variants side by side (inverse-stretch weight 0.1 and 1; the better one-way map is kept, README \"Measures\"). The default run weights the stretch by curvature (`--curvature-weight 0.5`), the equilateral run does not.")
+print(f"Commit {commit}.")
 print()
-print("| model | faces | partition | map | sample | total | peak MB | valid | map eff. | square eff. | flips | PSNR dB | spherical (sq. eff. / flips / PSNR) | equilateral: octa eff. | paper (octa eff. / PSNR) |")
+print("| model | faces | partition | map | sample | total | peak MB | valid | map eff. | square eff. | flips | PSNR dB | spherical (sq. eff. / flips / PSNR) | equilateral: octa eff. / PSNR | paper (octa eff. / PSNR) |")
 print("|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---|")
 for m in models:
     r = json.load(open(os.path.join(work, m + ".json")))
@@ -43,5 +48,5 @@ for m in models:
     p = paper.get(m)
     print(f"| {m} | {faces} | {s['partition']:.2f} | {s['map']:.2f} | {s['sample']:.2f} | {s['total']:.2f} | {r['peak_memory_mb']:.0f} | {'yes' if r['map']['valid'] else 'NO'} "
           f"| {r['map']['efficiency_domain_to_surface']:.3f} | {r['image']['efficiency_square']:.3f} | {r['image']['flipped_triangles']} | {r['distance']['psnr_db']:.1f} "
-          f"| {spherical.get(m, '')} | {e['image']['efficiency_octahedron']:.3f} | {'%.3f / %.1f' % p if p else ''} |" if e else "")
+          f"| {spherical.get(m, '')} | {e['image']['efficiency_octahedron']:.3f} / {e['distance']['psnr_db']:.1f} | {'%.3f / %.1f' % p if p else ''} |" if e else "")
 PY
