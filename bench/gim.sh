@@ -4,21 +4,11 @@
 # the published figures (paper Table 1; Praun & Hoppe's spherical pipeline as
 # the issue measured it). Prints a Markdown table; needs python3 for JSON.
 #   bench/gim.sh > docs/results-gim.md
-set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
-bin="${BUILD_DIR:-$root/build}/bin"
-models="$root/../shared/models"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+source "$(dirname "$0")/common.sh"
 for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cube bunny_small; do
-  "$bin/gim-remesh" -q "$models/$m.obj" -o "$work/$m.exr" --report "$work/$m.json" || echo "{}" > "$work/$m.json"
-  "$bin/gim-remesh" -q "$models/$m.obj" -o "$work/$m-eq.exr" --metric equilateral --report "$work/$m-eq.json" || echo "{}" > "$work/$m-eq.json"
+  "$bin/gim-remesh" -q "$models_dir/$m.obj" -o "$work/$m.exr" --report "$work/$m.json" || echo "{}" > "$work/$m.json"
+  "$bin/gim-remesh" -q "$models_dir/$m.obj" -o "$work/$m-eq.exr" --metric equilateral --report "$work/$m-eq.json" || echo "{}" > "$work/$m-eq.json"
 done
-commit="${COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
-if [ -z "${COMMIT:-}" ] && [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
-  commit="$commit with uncommitted changes"
-fi
 python3 - "$work" "$commit" <<'PY'
 import json, os, platform, sys
 work, commit = sys.argv[1], sys.argv[2]

@@ -8,15 +8,9 @@
 #   MODELS="bunny_small" SIZES="100" bench/semireg.sh    # a quick subset
 # Each level is a separate run (the map is computed twice); times and memory
 # are those of the level-4 run.
-set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
-bin="${BUILD_DIR:-$root/build}/bin"
-models_dir="$root/../shared/models"
+source "$(dirname "$0")/common.sh"
 models="${MODELS:-bunny spot torus rocker_arm double_torus eight_loop2}"
 sizes="${SIZES:-50 100 200}"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
 for m in $models; do
   for s in $sizes; do
     for k in 4 5; do
@@ -29,15 +23,15 @@ for m in $models; do
     done
   done
 done
-python3 - "$work" "$models" "$sizes" <<'PY'
+python3 - "$work" "$models" "$sizes" "$commit" <<'PY'
 import json, os, platform, sys
-work, models, sizes = sys.argv[1], sys.argv[2].split(), sys.argv[3].split()
+work, models, sizes, commit = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), sys.argv[4]
 paper = {"bunny": "0.915 (GSP 0.800)"}
 def load(tag):
     with open(os.path.join(work, tag + ".json")) as f:
         return json.load(f)
 print(f"semireg, decimated bases (`--base-size`), equilateral base faces, features released; "
-      f"{os.cpu_count()} cores ({platform.machine()}). Times in seconds, memory in MB (level-4 run).")
+      f"{os.cpu_count()} cores ({platform.machine()}), commit {commit}. Times in seconds, memory in MB (level-4 run).")
 print()
 print("Bases: four decimations (isotropic; isotropic with valences towards 6; isotropic with valences from curvature; quadric) "
       "and, where valid, the same vertices connected by their Voronoi regions' dual; each partitioned and mapped to 5000 "

@@ -9,21 +9,9 @@
 # Prints a Markdown table; needs python3.
 #   bench/torus.sh > docs/results-torus.md
 #   MODELS="torus bob" SIZE=64 bench/torus.sh    # a quick subset
-set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
-bin="${BUILD_DIR:-$root/build}/bin"
-models_dir="$root/../shared/models"
+source "$(dirname "$0")/common.sh"
 models="${MODELS:-torus rocker_arm teapot mug cup bob knot}"
 size="${SIZE:-128}"
-# The code measured: COMMIT if given, else the checkout's commit (marked
-# when the tree has uncommitted changes).
-commit="${COMMIT:-$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)}"
-if [ -z "${COMMIT:-}" ] && [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
-  commit="$commit with uncommitted changes"
-fi
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
 runs=""
 "$bin/ism-genmesh" torus --R 2 --r 1 --faces 20000 -o "$work/generated_torus_R2_r1.obj" >/dev/null 2>&1
 for m in generated_torus_R2_r1 $models; do
