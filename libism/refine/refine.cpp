@@ -2,6 +2,7 @@
 
 #include "refine/flat_reembedding.hpp"
 
+#include <deque>
 #include <stdexcept>
 
 namespace ism {
@@ -40,6 +41,30 @@ double optimization_sweep(SurfaceMap& map, bool validate_each_step) {
   return gain;
 }
 
+double local_relaxation(SurfaceMap& map, double relative_gain, double budget, std::size_t& moves,
+                        bool validate_each_step) {
+  const std::size_t n = map.positions().size();
+  std::deque<int> queue;
+  std::vector<char> queued(n, 0);
+  for (std::size_t v = 0; v < n; ++v)
+    if (map.is_active(int(v)) && !map.is_pinned(int(v))) queue.push_back(int(v)), queued[v] = 1;
+  const double threshold = relative_gain * map.energy() / double(map.n_vertices());
+  const auto max_moves = std::size_t(budget * double(map.n_vertices()));
+  double gain = 0.0;
+  for (moves = 0; !queue.empty() && moves < max_moves; ++moves) {
+    const int v = queue.front();
+    queue.pop_front();
+    queued[v] = 0;
+    const double g = map.optimize_vertex(v);
+    check_operation(map, validate_each_step, "optimising", v);
+    gain += g;
+    if (g <= threshold) continue;
+    for (int w : map.neighbours(v))
+      if (!queued[w] && !map.is_pinned(w)) queue.push_back(w), queued[w] = 1;
+  }
+  return gain;
+}
+
 RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   RefineStats stats;
   auto check = [&](const char* when) {
@@ -52,6 +77,13 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     ++stats.reembeddings;
     if (global_flat_reembedding(map).applied) ++stats.reembeddings_applied;
     check("after a global re-embedding");
+  };
+  auto relax_locally = [&] {
+    if (options.local_relaxation_budget <= 0) return;
+    std::size_t moves = 0;
+    local_relaxation(map, options.local_relaxation_gain, options.local_relaxation_budget, moves,
+                     options.validate_each_step);
+    stats.local_moves += moves;
   };
   std::size_t last_sweep = map.n_vertices();
   const std::size_t total = map.splits_total();
@@ -78,6 +110,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
         energy -= gain;
         if (gain < min_gain * energy) break;
       }
+      relax_locally();
       last_sweep = map.n_vertices();
       check("after a sweep");
     }
@@ -97,6 +130,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     energy -= gain;
     if (gain < options.final_relative_gain * energy) break;
   }
+  relax_locally();
   check("after the final sweeps");
   stats.energy = map.energy();
   stats.optimizations = map.optimizations();
