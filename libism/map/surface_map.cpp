@@ -365,9 +365,15 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
   const double total_d = domain_.total_area(), total_m = surface_area_;
   // Forward stretch weighted by range area, backward by domain area, each
   // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
-  return forward_weight(t) * area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
-         options_.inverse_stretch_weight * area_d * (total_m / (total_d * total_d)) * 0.5 * frob /
-             (det * det);
+  double e = forward_weight(t) * area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
+             options_.inverse_stretch_weight * area_d * (total_m / (total_d * total_d)) * 0.5 *
+                 frob / (det * det);
+  if (options_.anisotropy_weight > 0) {
+    // Γ/γ + γ/Γ = (Γ² + γ²) / Γγ, past its onset.
+    const double excess = std::max(0.0, frob / det - anisotropy_onset(options_));
+    e += options_.anisotropy_weight * (area_m / total_m) * excess * excess;
+  }
+  return e;
 }
 
 double SurfaceMap::forward_weight(int t) const {

@@ -66,7 +66,19 @@ struct MapOptions {
   /// more densely there, where a piecewise-linear remesh errs most (higher
   /// PSNR for a little stretch). 0: the plain stretch.
   double curvature_weight = 0.0;
+  /// Weight λ of an anisotropy penalty added per face to the energy:
+  /// λ (A / A_M²) max(0, r − r₀)², A the face's surface area, r = Γ/γ + γ/Γ
+  /// = |J|²/det J (Γ ≥ γ the singular values of the Jacobian domain -> surface)
+  /// and r₀ = K + 1/K for K = anisotropy_threshold. 0 (default): none.
+  double anisotropy_weight = 0.0;
+  /// The ratio Γ/γ above which the penalty bites (K >= 1).
+  double anisotropy_threshold = 10.0;
 };
+
+/// The anisotropy penalty's r₀ (MapOptions::anisotropy_threshold K: K + 1/K).
+inline double anisotropy_onset(const MapOptions& o) {
+  return o.anisotropy_threshold + 1.0 / o.anisotropy_threshold;
+}
 
 /// Stretch measures of the map (DESIGN.md §2), from its pieces.
 struct MapMeasures {

@@ -134,10 +134,14 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map) : faces_(map.faces()) 
       map.options().inverse_stretch_weight * total_surface / (total_domain * total_domain);
   forward_.resize(nf);
   backward_.resize(nf);
+  anisotropy_.resize(nf);
   for (std::size_t t = 0; t < nf; ++t) {
     forward_[t] = 0.5 * c_forward * map.forward_weight(int(t)) * area[t];
     backward_[t] = 0.5 * c_backward / (area[t] * area[t]);
+    anisotropy_[t] = map.options().anisotropy_weight * area[t] / total_surface;
   }
+  surface_area_ = std::move(area);
+  onset_ = anisotropy_onset(map.options());
 }
 
 double FlatLayoutEnergy::operator()(const FlatTorusLayout& layout,
@@ -156,11 +160,18 @@ double FlatLayoutEnergy::operator()(const FlatTorusLayout& layout,
     const double f = (m.transpose() * gm).trace();
     const double area = 0.5 * det, area3 = area * area * area;
     sum += forward_[t] * f + backward_[t] * f * area3;
+    // Anisotropy: r = |J|² / det J = f a / A.
+    const double excess =
+        anisotropy_[t] > 0 ? std::max(0.0, f * area / surface_area_[t] - onset_) : 0.0;
+    sum += anisotropy_[t] * excess * excess;
     if (!gradient) continue;
     // ∂f/∂D = −2 M^T G M M^T, ∂a/∂D = a M^T.
     const Eigen::Matrix2d df = -2.0 * m.transpose() * gm * m.transpose();
-    const Eigen::Matrix2d g =
+    Eigen::Matrix2d g =
         (forward_[t] + backward_[t] * area3) * df + 3.0 * backward_[t] * f * area3 * m.transpose();
+    // ∂r/∂D = (a ∂f/∂D + f a M^T) / A.
+    if (excess > 0)
+      g += 2.0 * anisotropy_[t] * excess * (area / surface_area_[t]) * (df + f * m.transpose());
     const Triangle& tri = faces_[t];
     (*gradient)[tri[1]] += g.col(0);
     (*gradient)[tri[2]] += g.col(1);

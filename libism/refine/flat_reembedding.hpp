@@ -67,7 +67,8 @@ std::optional<FlatTorusLayout> solve_flat_layout(const SurfaceMap& map,
 /// and its gradient. Per face, with J the Jacobian domain -> surface, a and
 /// A the face's areas in the domain and on the surface and A_M¹, A_M² the
 /// totals: A c_F |J|² / 2 + a c_B |J|² / (2 det²), det = A / a,
-/// c_F = A_M¹ / A_M²², c_B = A_M² / A_M¹².
+/// c_F = A_M¹ / A_M²², c_B = A_M² / A_M¹², plus the anisotropy penalty
+/// λ (A / A_M²) max(0, |J|² a / A − r₀)² (MapOptions::anisotropy_weight).
 class FlatLayoutEnergy {
  public:
   explicit FlatLayoutEnergy(const SurfaceMap& map);
@@ -79,6 +80,9 @@ class FlatLayoutEnergy {
   const std::vector<Triangle>& faces_;
   std::vector<Eigen::Matrix2d> gram_;       // Q^T Q, Q the surface edges from corner 0
   std::vector<double> forward_, backward_;  // A c_F / 2 and c_B / (2 A²)
+  std::vector<double> anisotropy_;          // λ A / A_M², 0 without the penalty
+  std::vector<double> surface_area_;        // A
+  double onset_ = 0;                        // r₀
 };
 
 /// Lowers the symmetric energy of a layout by moving all vertices at once:

@@ -119,6 +119,36 @@ QuadMesh torus_grid_mesh(const TorusGrid& grid) {
   return mesh;
 }
 
+namespace {
+
+// Whether quad (row, col) of the grid is split along a–c (else b–d).
+bool split_along_ac(const TorusGrid& grid, int row, int col) {
+  const int next_row = (row + 1) % grid.rows, next_col = (col + 1) % grid.columns;
+  return (grid.at(next_row, next_col) - grid.at(row, col)).squaredNorm() <=
+         (grid.at(next_row, col) - grid.at(row, next_col)).squaredNorm();
+}
+
+}  // namespace
+
+TriangleMesh torus_grid_triangles(const TorusGrid& grid) {
+  const QuadMesh quads = torus_grid_mesh(grid);
+  TriangleMesh out;
+  out.positions = quads.positions;
+  out.triangles.reserve(2 * quads.quads.size());
+  for (int row = 0; row < grid.rows; ++row)
+    for (int col = 0; col < grid.columns; ++col) {
+      const Quad& q = quads.quads[grid.index(row, col)];
+      if (split_along_ac(grid, row, col)) {
+        out.triangles.push_back({q[0], q[1], q[2]});
+        out.triangles.push_back({q[0], q[2], q[3]});
+      } else {
+        out.triangles.push_back({q[0], q[1], q[3]});
+        out.triangles.push_back({q[1], q[2], q[3]});
+      }
+    }
+  return out;
+}
+
 double torus_grid_efficiency(const TorusGrid& grid) {
   check_grid(grid);
   const int u = grid.columns, v = grid.rows;
@@ -127,6 +157,9 @@ double torus_grid_efficiency(const TorusGrid& grid) {
       along_t(0, 1.0 / v, 0);
   const TriangleLengths lower = detail::triangle_lengths(origin, along_s, diagonal);
   const TriangleLengths upper = detail::triangle_lengths(origin, diagonal, along_t);
+  // Split along the other diagonal, b–d.
+  const TriangleLengths left = detail::triangle_lengths(origin, along_s, along_t);
+  const TriangleLengths right = detail::triangle_lengths(along_s, diagonal, along_t);
   return detail::grid_efficiency(
       v,
       [&](int row, std::vector<StretchPiece>& pieces) {
@@ -135,15 +168,20 @@ double torus_grid_efficiency(const TorusGrid& grid) {
           const int next_col = (col + 1) % u;
           const Vec3 &a = grid.at(row, col), &b = grid.at(row, next_col),
                      &c = grid.at(next_row, next_col), &d = grid.at(next_row, col);
-          pieces.push_back({lower, detail::triangle_lengths(a, b, c)});
-          pieces.push_back({upper, detail::triangle_lengths(a, c, d)});
+          if (split_along_ac(grid, row, col)) {
+            pieces.push_back({lower, detail::triangle_lengths(a, b, c)});
+            pieces.push_back({upper, detail::triangle_lengths(a, c, d)});
+          } else {
+            pieces.push_back({left, detail::triangle_lengths(a, b, d)});
+            pieces.push_back({right, detail::triangle_lengths(b, c, d)});
+          }
         }
       },
       "torus_grid_efficiency");
 }
 
 std::size_t torus_grid_flipped_triangles(const TorusGrid& grid) {
-  return flipped_faces(triangulate(torus_grid_mesh(grid)));
+  return flipped_faces(torus_grid_triangles(grid));
 }
 
 }  // namespace ism

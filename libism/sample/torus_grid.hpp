@@ -21,9 +21,13 @@
 //    V: counter-clockwise in (s, t), as the faces of torus_3x3(), so the
 //    samples of a map that keeps the domain's orientation on an outward
 //    surface give outward quads.
-//  - Triangulation (ism::triangulate): quad q is split along its diagonal
-//    from (j, i) to (j+1, i+1), parallel to the diagonals of torus_3x3():
-//    triangle 2q = (j, i), (j, i+1), (j+1, i+1); 2q+1 = (j, i), (j+1, i+1), (j+1, i).
+//  - Triangulation (torus_grid_triangles): quad q with corners a = (j, i),
+//    b = (j, i+1), c = (j+1, i+1), d = (j+1, i) is split along its shorter
+//    diagonal in space, a–c on a tie: triangles 2q = (a, b, c), 2q+1 =
+//    (a, c, d), or 2q = (a, b, d), 2q+1 = (b, c, d). A grid quad is not
+//    planar where the surface bends across it; the shorter diagonal follows
+//    the bend, where the other one cuts across it and folds the pair (teapot
+//    at 128²: 25 -> 7 folded triangles, the same samples).
 //  - Domain faces: cell (row r, column c) of torus_3x3(), 0 <= r, c < 3,
 //    covers [c/3, (c+1)/3] × [r/3, (r+1)/3]. Of its two faces, 2(3r+c)
 //    (corners (c,r), (c+1,r), (c+1,r+1) in units of 1/3) is the half where
@@ -90,19 +94,23 @@ TorusGrid sample_torus_grid(int columns, int rows,
                             const std::function<Vec3(const TorusPoint&)>& surface_point);
 
 /// The closed quad mesh of the grid (layout above): U·V vertices, U·V quads,
-/// every vertex of valence 4, genus 1. triangulate() gives its 2·U·V
-/// triangles. Throws std::invalid_argument for a bad size or point count.
+/// every vertex of valence 4, genus 1. Throws std::invalid_argument for a
+/// bad size or point count.
 QuadMesh torus_grid_mesh(const TorusGrid& grid);
 
+/// The 2·U·V triangles of the grid, each quad split along its shorter
+/// diagonal (layout above). Throws as torus_grid_mesh.
+TriangleMesh torus_grid_triangles(const TorusGrid& grid);
+
 /// One-way L2 stretch efficiency of the map from the flat grid triangles of
-/// the unit square (legs 1/U and 1/V) to the triangles of the triangulated
-/// grid, as image_efficiency() in sample.hpp: 1 for an isometry up to scale;
-/// lengths only, so a fold is not penalised (count those with
+/// the unit square (legs 1/U and 1/V, split as torus_grid_triangles splits
+/// each quad) to the triangles of torus_grid_triangles(), as image_efficiency() in sample.hpp: 1
+/// for an isometry up to scale; lengths only, so a fold is not penalised (count those with
 /// torus_grid_flipped_triangles). Throws std::invalid_argument for a bad
 /// grid or one with zero total area.
 double torus_grid_efficiency(const TorusGrid& grid);
 
-/// Number of triangles of the triangulated grid whose normal has a negative
+/// Number of triangles of torus_grid_triangles() whose normal has a negative
 /// dot product with the sum of the area-weighted normals of all triangles
 /// sharing a vertex with it (itself included), across the wrap too, as
 /// flipped_triangles() in sample.hpp. Zero-area triangles are never flipped.

@@ -25,7 +25,13 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
       ->check(CLI::Range(0, 1000));
   app.add_option_function<double>(
          "--inverse-weight",
-         [&settings](const double& w) { settings.variants = {{.inverse_stretch_weight = w}}; },
+         [&settings](const double& w) {
+           // The other settings of the first variant (the anisotropy penalty) are kept.
+           MapVariant v = settings.variants.front();
+           v.inverse_stretch_weight = w;
+           settings.variants = {v};
+           settings.fallback_variants.clear();
+         },
          "Weight of the inverse stretch (surface -> domain) in the optimised energy: 1 is the "
          "symmetric stretch, lower favours the one-way stretch domain -> surface (default: "
          "the tool's variants, each refined and the best kept)")
@@ -34,6 +40,23 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
                  "Weight the stretch by 1 + W * curvature / its RMS: more samples where the "
                  "surface bends, a closer remesh (PSNR) for a little stretch")
       ->check(CLI::Range(0.0, 100.0));
+  app.add_option_function<double>(
+         "--anisotropy-weight",
+         [&settings](const double& w) {
+           for (MapVariant& v : settings.variants) v.anisotropy_weight = w;
+           settings.fallback_variants.clear();
+         },
+         "Weight of the penalty on faces whose map is more anisotropic than "
+         "--anisotropy-threshold, in every variant (and no fallback variants)")
+      ->check(CLI::Range(0.0, 1e6));
+  app.add_option_function<double>(
+         "--anisotropy-threshold",
+         [&settings](const double& k) {
+           for (MapVariant& v : settings.variants) v.anisotropy_threshold = k;
+           settings.fallback_variants.clear();
+         },
+         "Ratio of the map's singular values above which the anisotropy penalty bites")
+      ->check(CLI::Range(1.0, 1e6));
 }
 
 }  // namespace ism::tool

@@ -4,6 +4,7 @@
 
 #include <tbb/task_group.h>
 
+#include <chrono>
 #include <exception>
 #include <optional>
 #include <stdexcept>
@@ -15,36 +16,57 @@ MapOptions MapSettings::map_options(std::size_t i) const {
   return {.release_features = !hold_features,
           .inverse_stretch_weight = v.inverse_stretch_weight,
           .cone_relaxation_rings = v.cone_relaxation_rings,
-          .curvature_weight = curvature_weight};
+          .curvature_weight = curvature_weight,
+          .anisotropy_weight = v.anisotropy_weight,
+          .anisotropy_threshold = v.anisotropy_threshold};
 }
 
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score) {
-  const std::size_t n = settings.variants.size();
+  // Both rounds' variants, in order: the first round, then the fallbacks.
+  std::vector<MapVariant> all = settings.variants;
   struct Outcome {
     MapStageResult result;
     std::exception_ptr error;
     double score = 0;
+    double seconds = 0;
   };
-  std::vector<Outcome> outcomes(n);
-  tbb::task_group group;
-  for (std::size_t i = 0; i < n; ++i)
-    group.run([&, i] {
-      Outcome& out = outcomes[i];
-      try {
-        out.result.setup = choose(settings.map_options(i));
-        RefineOptions options;
-        options.max_final_sweeps = settings.final_sweeps;
-        options.global_flat_reembedding = stage.global_flat_reembedding;
-        if (i == 0) options.progress = [&](double f) { progress.update(f); };
-        out.result.stats = refine(*out.result.setup->map, options);
-        out.score = score(*out.result.setup->map);
-      } catch (...) {
-        out.error = std::current_exception();
-      }
-    });
-  group.wait();
+  std::vector<Outcome> outcomes;
+  auto run_round = [&](std::size_t first, std::size_t last) {
+    outcomes.resize(last);
+    tbb::task_group group;
+    for (std::size_t i = first; i < last; ++i)
+      group.run([&, i] {
+        Outcome& out = outcomes[i];
+        const auto start = std::chrono::steady_clock::now();
+        try {
+          MapSettings one = settings;
+          one.variants = {all[i]};
+          out.result.setup = choose(one.map_options(0));
+          RefineOptions options;
+          options.max_final_sweeps = settings.final_sweeps;
+          options.global_flat_reembedding = stage.global_flat_reembedding;
+          if (i == first) options.progress = [&](double f) { progress.update(f); };
+          out.result.stats = refine(*out.result.setup->map, options);
+          out.score = score(*out.result.setup->map);
+        } catch (...) {
+          out.error = std::current_exception();
+        }
+        out.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      });
+    group.wait();
+  };
+  run_round(0, all.size());
+  bool retry = false;
+  for (const Outcome& out : outcomes) retry |= !out.error && out.score < stage.retry_below;
+  if (retry && !settings.fallback_variants.empty()) {
+    const std::size_t first = all.size();
+    all.insert(all.end(), settings.fallback_variants.begin(), settings.fallback_variants.end());
+    run_round(first, all.size());
+  }
+  const std::size_t n = all.size();
 
   std::optional<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i)
@@ -66,8 +88,11 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   Json& variants = r["map_variants"] = Json::array();
   for (std::size_t i = 0; i < n; ++i) {
     Json v = Json::object();
-    v["inverse_stretch_weight"] = settings.variants[i].inverse_stretch_weight;
-    v["cone_relaxation_rings"] = settings.variants[i].cone_relaxation_rings;
+    v["inverse_stretch_weight"] = all[i].inverse_stretch_weight;
+    v["cone_relaxation_rings"] = all[i].cone_relaxation_rings;
+    v["anisotropy_weight"] = all[i].anisotropy_weight;
+    v["anisotropy_threshold"] = all[i].anisotropy_threshold;
+    v["fallback"] = i >= settings.variants.size();
     if (outcomes[i].error) {
       try {
         std::rethrow_exception(outcomes[i].error);
@@ -79,14 +104,14 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       v["score"] = outcomes[i].score;
       v["efficiency_domain_to_surface"] = m.forward_efficiency;
       v["symmetric_efficiency"] = m.symmetric_efficiency;
+      v["seconds"] = outcomes[i].seconds;
     }
     v["kept"] = i == *kept;
     variants.push_back(v);
   }
   if (n > 1)
     run.note("kept map variant " + std::to_string(*kept + 1) + " of " + std::to_string(n) +
-             " (inverse-stretch weight " +
-             std::to_string(settings.variants[*kept].inverse_stretch_weight) + ")");
+             " (inverse-stretch weight " + std::to_string(all[*kept].inverse_stretch_weight) + ")");
   MapStageResult kept_result = std::move(outcomes[*kept].result);
   if (!stage.dump_patches.empty())
     write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {

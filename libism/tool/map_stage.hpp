@@ -14,6 +14,7 @@
 #include "refine/refine.hpp"
 #include "tool/tool.hpp"
 
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -25,6 +26,8 @@ namespace ism::tool {
 struct MapVariant {
   double inverse_stretch_weight = 1.0;
   int cone_relaxation_rings = 2;
+  double anisotropy_weight = 0.0;  // MapOptions::anisotropy_weight
+  double anisotropy_threshold = 10.0;
 };
 
 /// The map options every front end offers (tool/cli.hpp: add_map_options).
@@ -35,6 +38,9 @@ struct MapSettings {
   std::vector<MapVariant> variants{MapVariant{}};
   /// MapOptions::curvature_weight of every variant (--curvature-weight).
   double curvature_weight = 0.0;
+  /// Refined side by side after `variants` when one of those scored below
+  /// MapStage::retry_below, and compared with them (none: no second round).
+  std::vector<MapVariant> fallback_variants;
   /// The options of variant i.
   MapOptions map_options(std::size_t i) const;
 };
@@ -46,6 +52,8 @@ struct MapStage {
   /// torus domain with released features).
   bool global_flat_reembedding = false;
   std::string hint;  // what to try when the optimisation fails
+  /// A variant scoring below this sends MapSettings::fallback_variants in.
+  double retry_below = -HUGE_VAL;
 };
 
 /// Scores a refined map; the variant with the highest score is kept.
@@ -64,8 +72,9 @@ struct MapStageResult {
 /// shape of a map is decided at its coarsest levels — then its refinement to
 /// full resolution (progress on `progress` from the first variant). Keeps
 /// the variant with the highest score (the first among equals) and writes
-/// its patch dump if asked. The report gets "features_released" and
-/// "map_variants" (each variant's settings, score, efficiencies and whether
+/// its patch dump if asked. If a variant scores below stage.retry_below,
+/// settings.fallback_variants are then refined the same way and compete too. The report gets
+/// "features_released" and "map_variants" (each variant's settings, score, efficiencies and whether
 /// it was kept). When every variant fails, rethrows the first variant's
 /// Failure, or throws Failure "<tool>: the map optimisation failed on
 /// <input> (<why>); <hint>".

@@ -31,8 +31,10 @@ int first_active(const SurfaceMap& map) {
   return v;
 }
 
-TEST(FlatReembedding, EnergyAndGradientAreTheMaps) {
-  TorusMap s(shapes::torus(1500, 2, 1));
+// Energy and gradient of FlatLayoutEnergy against the map's own energy and
+// central differences.
+void check_energy_and_gradient(const MapOptions& map_options) {
+  TorusMap s(shapes::torus(1500, 2, 1), map_options);
   RefineOptions options;
   options.stop_at_vertices = 400;
   refine(s.map, options);
@@ -59,6 +61,16 @@ TEST(FlatReembedding, EnergyAndGradientAreTheMaps) {
     }
   }
   EXPECT_GT(checked, 20);
+}
+
+TEST(FlatReembedding, EnergyAndGradientAreTheMaps) {
+  check_energy_and_gradient({});
+  TorusMap s(shapes::torus(1500, 2, 1));
+  RefineOptions options;
+  options.stop_at_vertices = 400;
+  refine(s.map, options);
+  const FlatTorusLayout layout = *s.map.flat_layout();
+  const FlatLayoutEnergy energy(s.map);
   // A face turned over (its first corner reflected through its second)
   // has no energy.
   FlatTorusLayout folded = layout;
@@ -67,6 +79,12 @@ TEST(FlatReembedding, EnergyAndGradientAreTheMaps) {
   folded.position[faces[0][0]] = 2 * c1 - c0 - layout.shift[0][0].cast<double>();
   EXPECT_EQ(energy(folded), HUGE_VAL);
   EXPECT_EQ(s.map.layout_energy(folded), HUGE_VAL);
+}
+
+TEST(FlatReembedding, EnergyAndGradientWithTheAnisotropyPenalty) {
+  // An onset low enough that the penalty bites on most faces.
+  check_energy_and_gradient(
+      {.inverse_stretch_weight = 0.1, .anisotropy_weight = 0.5, .anisotropy_threshold = 1.2});
 }
 
 TEST(FlatReembedding, LatticeOffsetsAndOwnWeightsGiveTheLayoutBack) {

@@ -121,7 +121,7 @@ TEST(TorusGrid, SidesDiagonalsAndVerticesAreDecidedOneWay) {
 }
 
 TEST(TorusGrid, GridPointsAreTheDocumentedParameterPoints) {
-  for (const auto [u, v] : {std::pair{3, 3}, {7, 5}, {12, 9}, {64, 48}})
+  for (const auto& [u, v] : {std::pair{3, 3}, {7, 5}, {12, 9}, {64, 48}})
     for (int row = 0; row < v; ++row)
       for (int col = 0; col < u; ++col) {
         const TorusPoint p = torus_grid_point(u, v, col, row);
@@ -135,7 +135,7 @@ TEST(TorusGrid, GridPointsAreTheDocumentedParameterPoints) {
 TEST(TorusGrid, SizesAreChecked) {
   EXPECT_TRUE(is_torus_grid_size(3, 3));
   EXPECT_TRUE(is_torus_grid_size(8192, 8192));
-  for (const auto [u, v] : {std::pair{2, 5}, {5, 2}, {0, 0}, {-4, 4}, {8193, 8192}})
+  for (const auto& [u, v] : {std::pair{2, 5}, {5, 2}, {0, 0}, {-4, 4}, {8193, 8192}})
     EXPECT_FALSE(is_torus_grid_size(u, v)) << u << "x" << v;
   EXPECT_THROW(sample_torus_grid(2, 5, analytic_torus), std::invalid_argument);
   TorusGrid bad;
@@ -147,7 +147,7 @@ TEST(TorusGrid, SizesAreChecked) {
 }
 
 TEST(TorusGrid, QuadMeshIsClosedGenusOneWithValenceFourEverywhere) {
-  for (const auto [u, v] : {std::pair{3, 3}, {4, 7}, {12, 5}, {32, 32}}) {
+  for (const auto& [u, v] : {std::pair{3, 3}, {4, 7}, {12, 5}, {32, 32}}) {
     SCOPED_TRACE(std::to_string(u) + "x" + std::to_string(v));
     const QuadMesh mesh = torus_grid_mesh(sample_torus_grid(u, v, analytic_torus));
     ASSERT_EQ(mesh.n_vertices(), std::size_t(u * v));
@@ -169,7 +169,7 @@ TEST(TorusGrid, QuadMeshIsClosedGenusOneWithValenceFourEverywhere) {
     EXPECT_EQ(long(mesh.n_vertices()) - edges + long(mesh.n_faces()), 0);
 
     // Triangulated: 2UV triangles, V - E + F = 0, nothing to repair, outward.
-    const TriangleMesh triangles = triangulate(mesh);
+    const TriangleMesh triangles = torus_grid_triangles(sample_torus_grid(u, v, analytic_torus));
     ASSERT_EQ(triangles.n_faces(), 2 * mesh.n_faces());
     const MeshCheck c = prepare_mesh(soup_of(triangles)).check;
     test::expect_clean_closed_surface(c, 1);
@@ -209,30 +209,68 @@ TEST(TorusGrid, AnalyticTorusMeasures) {
   const TorusGrid grid = sample_torus_grid(256, 256, analytic_torus);
   EXPECT_NEAR(torus_grid_efficiency(grid), 8.0 / 13.0, 2e-3);
   EXPECT_EQ(torus_grid_flipped_triangles(grid), 0u);
-  // Pull one point of the outer equator through the tube to the inner side:
-  // the triangles around it fold over.
+  // Fold the sampling: one point of the outer equator moved past its next
+  // neighbour along s (to column 6.6 of 16) reverses the cells between them,
+  // whichever diagonal splits them.
   TorusGrid folded = sample_torus_grid(16, 16, analytic_torus);
   EXPECT_EQ(torus_grid_flipped_triangles(folded), 0u);
-  folded.at(0, 5) *= 0.4;
+  const double theta = 2 * M_PI * 6.6 / 16;
+  folded.at(0, 5) = Vec3(3 * std::cos(theta), 3 * std::sin(theta), 0);
   EXPECT_GT(torus_grid_flipped_triangles(folded), 0u);
+}
+
+TEST(TorusGrid, QuadsAreSplitAlongTheirShorterDiagonal) {
+  // On the torus R = 2, r = 1 sampled 6 × 4 the quads are mirror-symmetric
+  // trapezoids: a tie, split along a–c. Shear the points of every other
+  // column along the tube so that b–d becomes shorter in some quads.
+  const int u = 6, v = 4;
+  TorusGrid grid = sample_torus_grid(u, v, analytic_torus);
+  for (int row = 0; row < v; ++row)
+    grid.at(row, 1) = analytic_torus(torus_grid_point(u, v, 1, (row + v - 1) % v));
+  const TriangleMesh triangles = torus_grid_triangles(grid);
+  const QuadMesh quads = torus_grid_mesh(grid);
+  ASSERT_EQ(triangles.n_faces(), 2 * quads.n_faces());
+  int along_bd = 0;
+  for (std::size_t q = 0; q < quads.n_faces(); ++q) {
+    const Quad& c = quads.quads[q];
+    const auto& p = grid.points;
+    const bool ac = (p[c[2]] - p[c[0]]).squaredNorm() <= (p[c[3]] - p[c[1]]).squaredNorm();
+    if (ac) {
+      EXPECT_EQ(triangles.triangles[2 * q], (Triangle{c[0], c[1], c[2]})) << q;
+      EXPECT_EQ(triangles.triangles[2 * q + 1], (Triangle{c[0], c[2], c[3]})) << q;
+    } else {
+      ++along_bd;
+      EXPECT_EQ(triangles.triangles[2 * q], (Triangle{c[0], c[1], c[3]})) << q;
+      EXPECT_EQ(triangles.triangles[2 * q + 1], (Triangle{c[1], c[2], c[3]})) << q;
+    }
+  }
+  EXPECT_GT(along_bd, 0);
+  EXPECT_LT(along_bd, u * v);
 }
 
 TEST(TorusGrid, EfficiencyIsTheOneWayStretchOfTheGridTriangles) {
   // The flat triangles have legs 1/U along s and 1/V along t, the wrap
-  // included; the measure is one_way_stretch over them and their images.
+  // included, split as the grid quads are; the measure is one_way_stretch
+  // over them and their images. A sheared column makes both splits occur.
   const int u = 6, v = 4;
-  const TorusGrid grid = sample_torus_grid(u, v, analytic_torus);
-  const TriangleMesh triangles = triangulate(torus_grid_mesh(grid));
+  TorusGrid grid = sample_torus_grid(u, v, analytic_torus);
+  for (int row = 0; row < v; ++row)
+    grid.at(row, 1) = analytic_torus(torus_grid_point(u, v, 1, (row + v - 1) % v));
+  const TriangleMesh triangles = torus_grid_triangles(grid);
+  const QuadMesh quads = torus_grid_mesh(grid);
   const double diagonal = std::hypot(1.0 / u, 1.0 / v);
   const TriangleLengths lower{1.0 / v, diagonal, 1.0 / u};  // (0,0), (1/U,0), (1/U,1/V)
   const TriangleLengths upper{1.0 / u, 1.0 / v, diagonal};  // (0,0), (1/U,1/V), (0,1/V)
+  const TriangleLengths left{diagonal, 1.0 / v, 1.0 / u};   // (0,0), (1/U,0), (0,1/V)
+  const TriangleLengths right{1.0 / u, diagonal, 1.0 / v};  // (1/U,0), (1/U,1/V), (0,1/V)
   std::vector<StretchPiece> pieces;
   for (std::size_t f = 0; f < triangles.n_faces(); ++f) {
     const Triangle& t = triangles.triangles[f];
     const Vec3 &a = triangles.positions[t[0]], &b = triangles.positions[t[1]],
                &c = triangles.positions[t[2]];
-    pieces.push_back(
-        {f % 2 == 0 ? lower : upper, {(b - c).norm(), (c - a).norm(), (a - b).norm()}});
+    const bool ac = triangles.triangles[f & ~std::size_t(1)][2] == quads.quads[f / 2][2];
+    const TriangleLengths& flat = ac ? (f % 2 == 0 ? lower : upper) : (f % 2 == 0 ? left : right);
+    pieces.push_back({flat, {(b - c).norm(), (c - a).norm(), (a - b).norm()}});
   }
   EXPECT_NEAR(torus_grid_efficiency(grid), one_way_stretch(pieces).efficiency, 1e-12);
   // Scaling the surface changes nothing.

@@ -58,7 +58,9 @@ void expect_semiregular(const fs::path& remesh, const fs::path& base, int levels
   EXPECT_EQ(c.reoriented_faces, 0u);
   EXPECT_FALSE(c.flipped_inward);
   // No triangle folded over its neighbours.
-  if (remesh.extension() != ".drc") EXPECT_EQ(ism::flipped_faces(read_triangles(remesh)), 0u);
+  if (remesh.extension() != ".drc") {
+    EXPECT_EQ(ism::flipped_faces(read_triangles(remesh)), 0u);
+  }
 }
 
 TEST(Semireg, GeneratedBlobHasExactSubdivisionConnectivity) {

@@ -42,11 +42,21 @@ inline ToolResult run_tool(const std::string& tool, const std::string& args) {
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(out), slurp(err)};
 }
 
-/// The number after "key": in a report (the first occurrence); a test
-/// failure and NaN when the key is missing.
-inline double report_number(const std::string& json, const std::string& key) {
+/// The number after "key": in a report: the first occurrence after the
+/// section "section": if one is named (e.g. "map", not a variant's figure in
+/// "map_variants"). A test failure and NaN when either is missing.
+inline double report_number(const std::string& json, const std::string& key,
+                            const std::string& section = "") {
+  std::size_t from = 0;
+  if (!section.empty()) {
+    from = json.find("\"" + section + "\": ");
+    if (from == std::string::npos) {
+      ADD_FAILURE() << "no section " << section << " in the report";
+      return NAN;
+    }
+  }
   const std::string quoted = "\"" + key + "\": ";
-  const std::size_t at = json.find(quoted);
+  const std::size_t at = json.find(quoted, from);
   if (at == std::string::npos) {
     ADD_FAILURE() << key << " not in the report";
     return NAN;

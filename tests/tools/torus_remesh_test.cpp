@@ -46,9 +46,10 @@ void expect_valence_four_torus(const fs::path& file, int columns, int rows, bool
   }
   // In the triangulated file the diagonals add two neighbours: the grid
   // edges alone are those of the quads, so count valence on quads only.
-  if (quads)
+  if (quads) {
     for (std::size_t v = 0; v < cells; ++v)
       EXPECT_EQ(neighbours[int(v)].size(), 4u) << "vertex " << v;
+  }
   const ism::MeshCheck c = ism::prepare_mesh(triangles).check;
   ism::test::expect_clean_closed_surface(c, 1);
 }
@@ -81,9 +82,9 @@ TEST(TorusRemesh, GeneratedTorusGivesAValenceFourGridAndAReport) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   EXPECT_GT(report_number(json, "global_reembeddings_applied"), 0);
   // The plain angle parametrisation of the unit square scores 0.615 (8/13).
-  const double efficiency = report_number(json, "efficiency_domain_to_surface");
+  const double efficiency = report_number(json, "efficiency_domain_to_surface", "map");
   std::printf("generated torus R=2 r=1: one-way efficiency %.4f, grid %.4f, PSNR %.1f dB\n",
-              efficiency, report_number(json, "efficiency"), report_number(json, "psnr_db"));
+              efficiency, report_number(json, "efficiency", "grid"), report_number(json, "psnr_db"));
   EXPECT_GE(efficiency, 0.615);
 
   // The image holds the same points: V rows of U pixels, vertex order.
@@ -133,10 +134,12 @@ void remesh_shared_model(const std::string& model, bool given_features, bool fli
   EXPECT_NE(json.find("\"valid\": true"), std::string::npos);
   const double flipped = report_number(json, "flipped_triangles");
   std::printf("%s: one-way efficiency %.3f, grid efficiency %.3f, %g flipped triangles\n",
-              tag.c_str(), report_number(json, "efficiency_domain_to_surface"),
-              report_number(json, "efficiency"), flipped);
-  if (flip_free) EXPECT_EQ(flipped, 0);
-  EXPECT_GE(report_number(json, "efficiency_domain_to_surface"), min_efficiency);
+              tag.c_str(), report_number(json, "efficiency_domain_to_surface", "map"),
+              report_number(json, "efficiency", "grid"), flipped);
+  if (flip_free) {
+    EXPECT_EQ(flipped, 0);
+  }
+  EXPECT_GE(report_number(json, "efficiency_domain_to_surface", "map"), min_efficiency);
 }
 
 // One test per run, so that ctest spreads them over the cores.
@@ -144,7 +147,7 @@ TEST(TorusRemesh, SharedTorusAutomatic) {
   remesh_shared_model("torus", false, true);
 }
 TEST(TorusRemesh, SharedRockerArmAutomatic) {
-  remesh_shared_model("rocker_arm", false, true, 0.57);  // paper 0.582
+  remesh_shared_model("rocker_arm", false, true, 0.60);  // paper 0.582
 }
 TEST(TorusRemesh, SharedBobAutomatic) {
   remesh_shared_model("bob", false, true);
@@ -156,24 +159,24 @@ TEST(TorusRemesh, SharedTorusGivenFeatures) {
   remesh_shared_model("torus", true, true);
 }
 TEST(TorusRemesh, SharedRockerArmGivenFeatures) {
-  remesh_shared_model("rocker_arm", true, true, 0.57);
+  remesh_shared_model("rocker_arm", true, true, 0.60);
 }
-// teapot, mug and cup keep flipped grid triangles where their maps are
-// strongly anisotropic, near the handles' roots (docs/results-torus.md has
-// the numbers), so their grids' topology and efficiency are asserted. The
+// teapot, mug and cup fold grid triangles where skinny images of the grid
+// cells cross the sharp bends at the handles' roots unless the anisotropy
+// fallback variants run (teapot 0.458 with 16 folds before). The
 // efficiencies need the global re-embeddings: vertex-at-a-time alone gave
 // teapot 0.353, mug 0.142, cup 0.407.
 TEST(TorusRemesh, SharedTeapotAutomatic) {
-  remesh_shared_model("teapot", false, false, 0.355);  // paper 0.458
+  remesh_shared_model("teapot", false, true, 0.43);  // paper 0.458
 }
 TEST(TorusRemesh, SharedMugAutomatic) {
-  remesh_shared_model("mug", false, false, 0.40);
+  remesh_shared_model("mug", false, true, 0.47);
 }
 TEST(TorusRemesh, SharedCupAutomatic) {
-  remesh_shared_model("cup", false, false, 0.41);
+  remesh_shared_model("cup", false, true, 0.51);
 }
 TEST(TorusRemesh, SharedTeapotGivenFeatures) {
-  remesh_shared_model("teapot", true, false, 0.355);
+  remesh_shared_model("teapot", true, true, 0.40);
 }
 
 // One error line naming the file (or the tool), exit status 1, no output.
