@@ -219,14 +219,19 @@ TEST(TorusGrid, AnalyticTorusMeasures) {
   EXPECT_GT(torus_grid_flipped_triangles(folded), 0u);
 }
 
-TEST(TorusGrid, QuadsAreSplitAlongTheirShorterDiagonal) {
-  // On the torus R = 2, r = 1 sampled 6 × 4 the quads are mirror-symmetric
-  // trapezoids: a tie, split along a–c. Shear the points of every other
-  // column along the tube so that b–d becomes shorter in some quads.
+// The torus R = 2, r = 1 sampled 6 × 4, column 1 shifted by one row along
+// the tube: the quads are mirror-symmetric trapezoids (a tie, split along
+// a–c) except beside column 1, where b–d is the shorter diagonal of some.
+TorusGrid sheared_grid() {
   const int u = 6, v = 4;
   TorusGrid grid = sample_torus_grid(u, v, analytic_torus);
   for (int row = 0; row < v; ++row)
     grid.at(row, 1) = analytic_torus(torus_grid_point(u, v, 1, (row + v - 1) % v));
+  return grid;
+}
+
+TEST(TorusGrid, QuadsAreSplitAlongTheirShorterDiagonal) {
+  const TorusGrid grid = sheared_grid();
   const TriangleMesh triangles = torus_grid_triangles(grid);
   const QuadMesh quads = torus_grid_mesh(grid);
   ASSERT_EQ(triangles.n_faces(), 2 * quads.n_faces());
@@ -245,17 +250,15 @@ TEST(TorusGrid, QuadsAreSplitAlongTheirShorterDiagonal) {
     }
   }
   EXPECT_GT(along_bd, 0);
-  EXPECT_LT(along_bd, u * v);
+  EXPECT_LT(along_bd, grid.columns * grid.rows);
 }
 
 TEST(TorusGrid, EfficiencyIsTheOneWayStretchOfTheGridTriangles) {
   // The flat triangles have legs 1/U along s and 1/V along t, the wrap
   // included, split as the grid quads are; the measure is one_way_stretch
-  // over them and their images. A sheared column makes both splits occur.
-  const int u = 6, v = 4;
-  TorusGrid grid = sample_torus_grid(u, v, analytic_torus);
-  for (int row = 0; row < v; ++row)
-    grid.at(row, 1) = analytic_torus(torus_grid_point(u, v, 1, (row + v - 1) % v));
+  // over them and their images. The sheared grid has both splits.
+  const TorusGrid grid = sheared_grid();
+  const int u = grid.columns, v = grid.rows;
   const TriangleMesh triangles = torus_grid_triangles(grid);
   const QuadMesh quads = torus_grid_mesh(grid);
   const double diagonal = std::hypot(1.0 / u, 1.0 / v);
