@@ -84,7 +84,8 @@ TEST(TorusRemesh, GeneratedTorusGivesAValenceFourGridAndAReport) {
   // The plain angle parametrisation of the unit square scores 0.615 (8/13).
   const double efficiency = report_number(json, "efficiency_domain_to_surface", "map");
   std::printf("generated torus R=2 r=1: one-way efficiency %.4f, grid %.4f, PSNR %.1f dB\n",
-              efficiency, report_number(json, "efficiency", "grid"), report_number(json, "psnr_db"));
+              efficiency, report_number(json, "efficiency", "grid"),
+              report_number(json, "psnr_db"));
   EXPECT_GE(efficiency, 0.615);
 
   // The image holds the same points: V rows of U pixels, vertex order.
