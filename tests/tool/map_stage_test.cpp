@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <stdexcept>
 
 namespace ism::tool {
@@ -79,6 +80,32 @@ TEST(MapStage, OneFailingVariantIsDroppedAndAllFailingIsAFailure) {
   } catch (const Failure& e) {
     EXPECT_EQ(std::string(e.what()),
               "test: the map optimisation failed on blob.obj (no coarse map); try X");
+  }
+}
+
+TEST(MapStage, FallbackVariantsRunOnlyBelowTheThresholdAndCompete) {
+  Blob blob;
+  std::atomic<int> calls{0};
+  const auto choose = [&](const MapOptions& options) {
+    ++calls;
+    return choose_network(blob.networks, blob.geometry, options);
+  };
+  const MapScore score = [](const SurfaceMap& map) { return map.measures().forward_efficiency; };
+  const MapSettings settings{.variants = {{.inverse_stretch_weight = 1.0}},
+                             .fallback_variants = {{.inverse_stretch_weight = 0.1}}};
+  for (const double retry_below : {0.0, 2.0}) {  // efficiencies lie in (0, 1]
+    SCOPED_TRACE(retry_below);
+    calls = 0;
+    tool::Run run("test", {.quiet = true});
+    Progress& progress = run.stage("map");
+    const MapStageResult result = run_map_stage(
+        run, progress, {.input = "blob", .retry_below = retry_below}, settings, choose, score);
+    const bool retried = retry_below > 1;
+    EXPECT_EQ(calls.load(), retried ? 2 : 1);
+    const std::string report = run.report().dump();
+    EXPECT_EQ(report.find("\"fallback\": true") != std::string::npos, retried);
+    // The one-way score prefers the fallback's weight 0.1 when it runs.
+    EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, retried ? 0.1 : 1.0);
   }
 }
 
