@@ -2,13 +2,10 @@
 # The octahedral map on every closed genus-0 model of ../shared/models:
 # partition + progressive mesh (issue 3) and the map core (issue 4).
 #   bench/map.sh [equilateral|right_isosceles]
-set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
-bin="${BUILD_DIR:-$root/build}/bin"
-models="$root/../shared/models"
+source "$(dirname "$0")/common.sh"
 metric="${1:-right_isosceles}"
-echo "Octahedral map, $metric metric, $(nproc) cores. Times in seconds, memory in MB."
+echo "Octahedral map, $metric metric, $(nproc) cores, commit $commit. Times in seconds, memory in MB."
+echo "One map per model with the library's defaults (MapOptions: symmetric energy, relaxed cone moves; RefineOptions: level sweeps, local relaxation, final sweeps); the tools add variants and weights on top."
 echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetric (sym)."
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
 echo
@@ -17,5 +14,5 @@ echo
 echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
 for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cube bunny_small; do
-  "$bin/map_bench" "$models/$m.obj" "$metric" || true
+  "$bin/map_bench" "$models_dir/$m.obj" "$metric" || true
 done
