@@ -34,9 +34,9 @@ Neighbourhoods neighbourhoods(const TriangleMesh& mesh) {
   return n;
 }
 
-}  // namespace
-
-std::vector<double> vertex_curvature(const TriangleMesh& mesh, int smoothing_rings) {
+// vertex_curvature() on neighbourhoods already built.
+std::vector<double> curvature_of(const TriangleMesh& mesh, const Neighbourhoods& nb,
+                                 int smoothing_rings) {
   const std::size_t nv = mesh.n_vertices();
   std::vector<Vec3> normal(nv, Vec3::Zero());
   for (std::size_t f = 0; f < mesh.n_faces(); ++f)
@@ -44,7 +44,6 @@ std::vector<double> vertex_curvature(const TriangleMesh& mesh, int smoothing_rin
   for (Vec3& n : normal)
     if (n.norm() > 0) n.normalize();
 
-  const Neighbourhoods nb = neighbourhoods(mesh);
   std::vector<double> mean_square(nv, 0.0);
   for (std::size_t v = 0; v < nv; ++v) {
     if (nb.adjacent[v].empty()) continue;
@@ -69,13 +68,19 @@ std::vector<double> vertex_curvature(const TriangleMesh& mesh, int smoothing_rin
   return mean_square;
 }
 
+}  // namespace
+
+std::vector<double> vertex_curvature(const TriangleMesh& mesh, int smoothing_rings) {
+  return curvature_of(mesh, neighbourhoods(mesh), smoothing_rings);
+}
+
 std::vector<double> curvature_density(const TriangleMesh& mesh, double weight,
                                       int smoothing_rings) {
   if (!(weight >= 0)) throw std::invalid_argument("curvature_density: weight must be >= 0");
   std::vector<double> density(mesh.n_vertices(), 1.0);
   if (weight == 0) return density;
-  const std::vector<double> kappa = vertex_curvature(mesh, smoothing_rings);
   const Neighbourhoods nb = neighbourhoods(mesh);
+  const std::vector<double> kappa = curvature_of(mesh, nb, smoothing_rings);
   double area = 0.0, sum = 0.0;
   for (std::size_t v = 0; v < kappa.size(); ++v)
     area += nb.area[v], sum += nb.area[v] * kappa[v] * kappa[v];

@@ -40,21 +40,22 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
                  "Weight the stretch by 1 + W * curvature / its RMS: more samples where the "
                  "surface bends, a closer remesh (PSNR) for a little stretch")
       ->check(CLI::Range(0.0, 100.0));
-  app.add_option_function<double>(
-         "--anisotropy-weight",
-         [&settings](const double& w) {
-           for (MapVariant& v : settings.variants) v.anisotropy_weight = w;
-           settings.fallback_variants.clear();
-         },
-         "Weight of the penalty on faces whose map is more anisotropic than "
-         "--anisotropy-threshold, in every variant (and no fallback variants)")
+  // An energy setting given on the command line holds in every variant and
+  // replaces the front end's fallbacks.
+  auto in_every_variant = [&settings](double MapVariant::*member) {
+    return [&settings, member](const double& value) {
+      for (MapVariant& v : settings.variants) v.*member = value;
+      settings.fallback_variants.clear();
+    };
+  };
+  app.add_option_function<double>("--anisotropy-weight",
+                                  in_every_variant(&MapVariant::anisotropy_weight),
+                                  "Weight of the penalty on faces whose map is more anisotropic "
+                                  "than --anisotropy-threshold, in every variant (and no "
+                                  "fallback variants)")
       ->check(CLI::Range(0.0, 1e6));
   app.add_option_function<double>(
-         "--anisotropy-threshold",
-         [&settings](const double& k) {
-           for (MapVariant& v : settings.variants) v.anisotropy_threshold = k;
-           settings.fallback_variants.clear();
-         },
+         "--anisotropy-threshold", in_every_variant(&MapVariant::anisotropy_threshold),
          "Ratio of the map's singular values above which the anisotropy penalty bites")
       ->check(CLI::Range(1.0, 1e6));
 }
