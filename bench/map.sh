@@ -8,11 +8,12 @@ echo "Octahedral map, $metric metric, $(nproc) cores, commit $commit. Times in s
 echo "One map per model with the library's defaults (MapOptions: symmetric energy, relaxed cone moves; RefineOptions: level sweeps, local relaxation, final sweeps); the tools add variants and weights on top."
 echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetric (sym)."
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
+echo "Discs: disc re-embeddings kept / tried (RefineOptions::disc_outlier, max_discs)."
 echo
 echo "Partition: all candidate networks; pm + choice: their progressive meshes and coarse maps (1000 vertices)."
 echo
-echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|"
+echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path | discs |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
 for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cube bunny_small; do
   "$bin/map_bench" "$models_dir/$m.obj" "$metric" || true
 done

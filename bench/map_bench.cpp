@@ -48,11 +48,12 @@ int main(int argc, char** argv) {
   const ism::MapMeasures m = map.measures();
   std::printf(
       "| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f "
-      "| %.1f%% |\n",
+      "| %.1f%% | %zu / %zu |\n",
       std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
       network.steiner_vertices(), candidates, seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
       seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
       valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency, m.symmetric_efficiency,
-      100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations));
+      100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations),
+      stats.discs_applied, stats.discs);
   return valid ? 0 : 1;
 }

@@ -119,6 +119,20 @@ std::optional<std::vector<std::array<Vec2, 3>>> unit_square_layouts(const Domain
 /// triangle (p, ring[i], ring[i+1]) is counter-clockwise), if it is not empty.
 std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring);
 
+/// A disc of M² in one chart (SurfaceMap::disc_layout), its vertices and
+/// faces renumbered locally.
+struct DiscLayout {
+  std::vector<int> vertex;      // the map vertex of each local vertex
+  std::vector<char> free;       // per local vertex: 1 if it may move
+  std::vector<Vec2> position;   // per local vertex, in the chart
+  std::vector<int> face;        // the map face of each local face
+  std::vector<Triangle> local;  // the faces with local vertex indices
+  // Where the map's walks from each corner of each face start, in the chart
+  // (the M¹ face and its layout): the fixed ends' starts when installing.
+  std::vector<std::array<int, 3>> walk_face;
+  std::vector<std::array<std::array<Vec2, 3>, 3>> walk_layout;
+};
+
 class SurfaceMap {
  public:
   /// The trivial map between the base mesh of `pm` and the domain: base
@@ -133,6 +147,8 @@ class SurfaceMap {
   std::size_t splits_total() const { return pm_.splits.size(); }
   const std::vector<Triangle>& faces() const { return faces_; }
   const std::vector<Vec3>& positions() const { return positions_; }
+  /// Area of the surface at its current resolution.
+  double surface_area() const { return surface_area_; }
   bool is_active(int v) const { return !vertex_faces_[v].empty(); }
   bool is_pinned(int v) const { return pinned_[v] != 0; }
 
@@ -150,8 +166,26 @@ class SurfaceMap {
   /// Returns the energy decrease. The discrete counterpart, for cones, of the
   /// paper's optimisation of released features.
   double relocate_cone(int v);
+  /// The faces around some vertices laid out in one chart of M¹, for the
+  /// local re-embedding of a disc (paper §5.1): several vertices placed at
+  /// once, which single-vertex moves cannot replace where a region is
+  /// squeezed (each vertex there is confined by its squeezed neighbours).
+  /// The given vertices that are free (not pinned, not on a cone) may move;
+  /// every other corner of their faces is fixed. Nothing if the faces have
+  /// no flat chart (they wrap around a cone) or the map is invalid there.
+  std::optional<DiscLayout> disc_layout(const std::vector<int>& vertices) const;
+  /// Moves the free vertices of a layout (taken from this map, unchanged
+  /// since) to its positions: locates them in M¹ and re-traces their edges
+  /// as straight segments of the chart. Kept only if every face of the
+  /// layout stays valid and their energy drops; returns the decrease (0:
+  /// the map is as it was).
+  double set_disc_layout(const DiscLayout& layout);
   /// The one-ring of v (neighbours, counter-clockwise).
   std::vector<int> neighbours(int v) const;
+  /// v and the vertices within `rings` edges of it, nearest first.
+  std::vector<int> rings_around(int v, int rings) const;
+  /// Energy of face t in its chart (HUGE_VAL without a valid chart).
+  double face_energy(int t) const;
   /// How many optimisations had their whole one-ring inside one M¹ face.
   std::size_t single_face_rings() const { return single_face_rings_; }
   std::size_t optimizations() const { return optimizations_; }
@@ -243,13 +277,9 @@ class SurfaceMap {
     std::vector<std::array<EdgeWalk, 3>> walks;
     std::size_t optimizations = 0, single_face_rings = 0;
   };
-  /// v and the vertices within `rings` edges of it, nearest first.
-  std::vector<int> rings_around(int v, int rings) const;
   RegionState save_region(const std::vector<int>& vertices) const;
   void restore_region(const RegionState& state);
-  /// Energy of face t in its chart (HUGE_VAL without a valid chart), and
-  /// summed over a list of faces.
-  double face_energy(int t) const;
+  /// face_energy(t) summed over a list of faces.
   double faces_energy(const std::vector<int>& faces) const;
   /// The split of a vertex on a cone whose new vertex takes at least half
   /// of the cone's angle: the new vertex takes the cone, the old one moves.

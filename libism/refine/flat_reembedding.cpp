@@ -19,22 +19,6 @@ Vec3 lift3(const Vec2& p) {
 
 }  // namespace
 
-CornerWeights mean_value_weights(const std::vector<Triangle>& faces,
-                                 const std::function<std::array<Vec3, 3>(int)>& corners) {
-  CornerWeights w(faces.size());
-  for (std::size_t t = 0; t < faces.size(); ++t) {
-    const std::array<Vec3, 3> p = corners(int(t));
-    for (int c = 0; c < 3; ++c) {
-      const Vec3 a = p[(c + 1) % 3] - p[c], b = p[(c + 2) % 3] - p[c];
-      const double la = a.norm(), lb = b.norm();
-      // tan(α/2) = |a × b| / (|a||b| + a·b).
-      const double tan_half = a.cross(b).norm() / (la * lb + a.dot(b));
-      w[t][c] = {tan_half / la, tan_half / lb};
-    }
-  }
-  return w;
-}
-
 CornerWeights symmetrized(const std::vector<Triangle>& faces, const CornerWeights& weights) {
   std::unordered_map<std::uint64_t, double> sum;
   auto key = [](int i, int j) {
@@ -113,20 +97,34 @@ std::optional<FlatTorusLayout> solve_flat_layout(const SurfaceMap& map,
   return out;
 }
 
-FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map) : faces_(map.faces()) {
+namespace {
+
+std::vector<int> all_faces(const SurfaceMap& map) {
+  std::vector<int> out(map.n_faces());
+  for (std::size_t t = 0; t < out.size(); ++t) out[t] = int(t);
+  return out;
+}
+
+}  // namespace
+
+FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map)
+    : FlatLayoutEnergy(map, all_faces(map), map.faces()) {}
+
+FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>& map_faces,
+                                   std::vector<Triangle> faces)
+    : faces_(std::move(faces)) {
   const auto& x = map.positions();
   const std::size_t nf = faces_.size();
   gram_.resize(nf);
   std::vector<double> area(nf);
-  double total_surface = 0.0;
   for (std::size_t t = 0; t < nf; ++t) {
-    const Triangle& f = faces_[t];
+    const Triangle& f = map.faces()[map_faces[t]];
     Eigen::Matrix<double, 3, 2> q;
     q << x[f[1]] - x[f[0]], x[f[2]] - x[f[0]];
     gram_[t] = q.transpose() * q;
     area[t] = 0.5 * q.col(0).cross(q.col(1)).norm();
-    total_surface += area[t];
   }
+  const double total_surface = map.surface_area();
   const double total_domain = map.domain().total_area();
   const double c_forward = total_domain / (total_surface * total_surface);
   // The map's own energy: its inverse term weighted as MapOptions says.
@@ -136,7 +134,7 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map) : faces_(map.faces()) 
   backward_.resize(nf);
   anisotropy_.resize(nf);
   for (std::size_t t = 0; t < nf; ++t) {
-    forward_[t] = 0.5 * c_forward * map.forward_weight(int(t)) * area[t];
+    forward_[t] = 0.5 * c_forward * map.forward_weight(map_faces[t]) * area[t];
     backward_[t] = 0.5 * c_backward / (area[t] * area[t]);
     anisotropy_[t] = map.options().anisotropy_weight * area[t] / total_surface;
   }
@@ -214,16 +212,18 @@ double max_injective_step(const std::vector<Triangle>& faces, const FlatTorusLay
 // Cotangent Laplacian of the surface, weights clamped to a positive floor
 // so that it is positive semi-definite with the constants as kernel, plus a
 // small multiple of the identity: a fixed, factorised preconditioner.
+// Rows of vertices that do not move are the identity (their gradient is
+// zeroed, so their step is zero).
 struct SurfacePreconditioner {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
   bool ok = false;
-  explicit SurfacePreconditioner(const SurfaceMap& map) {
-    const auto& x = map.positions();
-    const auto& faces = map.faces();
+  SurfacePreconditioner(const std::vector<Vec3>& x, const std::vector<Triangle>& faces,
+                        const std::vector<char>& movable) {
     const int n = int(x.size());
     std::vector<Eigen::Triplet<double>> triplets;
     triplets.reserve(faces.size() * 12 + x.size());
     double diagonal = 0.0;
+    std::size_t moving = 0;
     for (std::size_t t = 0; t < faces.size(); ++t)
       for (int k = 0; k < 3; ++k) {
         const Triangle& f = faces[t];
@@ -231,14 +231,17 @@ struct SurfacePreconditioner {
         const double cot = u.dot(v) / std::max(u.cross(v).norm(), 1e-300);
         const double w = 0.5 * std::clamp(cot, 1e-2, 1e2);  // edge opposite corner k
         const int i = f[(k + 1) % 3], j = f[(k + 2) % 3];
-        triplets.emplace_back(i, i, w);
-        triplets.emplace_back(j, j, w);
-        triplets.emplace_back(i, j, -w);
-        triplets.emplace_back(j, i, -w);
+        if (movable[i]) triplets.emplace_back(i, i, w);
+        if (movable[j]) triplets.emplace_back(j, j, w);
+        if (movable[i] && movable[j]) {
+          triplets.emplace_back(i, j, -w);
+          triplets.emplace_back(j, i, -w);
+        }
         diagonal += 2 * w;
       }
-    const double regular = 1e-8 * diagonal / std::max<std::size_t>(1, map.n_vertices());
-    for (int v = 0; v < n; ++v) triplets.emplace_back(v, v, map.is_active(v) ? regular : 1.0);
+    for (int v = 0; v < n; ++v) moving += movable[v] != 0;
+    const double regular = 1e-8 * diagonal / double(std::max<std::size_t>(1, moving));
+    for (int v = 0; v < n; ++v) triplets.emplace_back(v, v, movable[v] ? regular : 1.0);
     Eigen::SparseMatrix<double> l(n, n);
     l.setFromTriplets(triplets.begin(), triplets.end());
     solver.compute(l);
@@ -257,15 +260,29 @@ Eigen::MatrixXd as_matrix(const std::vector<Vec2>& v) {
 
 FlatDescentStats descend_flat_layout(const SurfaceMap& map, FlatTorusLayout& layout,
                                      const FlatDescentOptions& options) {
+  std::vector<char> active(map.positions().size());
+  for (std::size_t v = 0; v < active.size(); ++v) active[v] = map.is_active(int(v));
+  return descend_layout(FlatLayoutEnergy(map), map.faces(), map.positions(), active, layout,
+                        options);
+}
+
+FlatDescentStats descend_layout(const FlatLayoutEnergy& energy, const std::vector<Triangle>& faces,
+                                const std::vector<Vec3>& surface, const std::vector<char>& movable,
+                                FlatTorusLayout& layout, const FlatDescentOptions& options) {
   FlatDescentStats stats;
-  const FlatLayoutEnergy energy(map);
   std::vector<Vec2> gradient;
-  double e = energy(layout, &gradient);
+  // The energy's gradient with the rows of fixed vertices zeroed.
+  auto evaluate = [&](const FlatTorusLayout& at, std::vector<Vec2>& g) {
+    const double e = energy(at, &g);
+    for (std::size_t v = 0; v < g.size(); ++v)
+      if (!movable[v]) g[v] = Vec2::Zero();
+    return e;
+  };
+  double e = evaluate(layout, gradient);
   stats.energy_before = stats.energy_after = e;
   if (!(e < HUGE_VAL)) return stats;
-  const SurfacePreconditioner preconditioner(map);
+  const SurfacePreconditioner preconditioner(surface, faces, movable);
   if (!preconditioner.ok) return stats;
-  const auto& faces = map.faces();
   const std::size_t n = layout.position.size();
   auto dot = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
     return (a.array() * b.array()).sum();
@@ -314,7 +331,7 @@ FlatDescentStats descend_flat_layout(const SurfaceMap& map, FlatTorusLayout& lay
     bool accepted = false;
     for (int k = 0; k < 40; ++k, t *= 0.5) {
       for (std::size_t v = 0; v < n; ++v) trial.position[v] = layout.position[v] + t * step[v];
-      e_trial = energy(trial, &trial_gradient);
+      e_trial = evaluate(trial, trial_gradient);
       if (e_trial <= e + 1e-4 * t * slope) {
         accepted = true;
         break;

@@ -25,6 +25,7 @@
 // same energy as descending from the map itself, at twice the cost; so the
 // re-embedding starts from the map.
 #include "map/surface_map.hpp"
+#include "mesh/mean_value_weights.hpp"
 
 #include <functional>
 #include <optional>
@@ -32,16 +33,6 @@
 
 namespace ism {
 
-/// Per face t and corner c, the weights of the two edges leaving that
-/// corner: weights[t][c][m] for the edge to corner (c + 1 + m) mod 3. The
-/// weight of an M² edge seen from vertex i is the sum over its two faces.
-using CornerWeights = std::vector<std::array<std::array<double, 2>, 3>>;
-
-/// Mean-value weights (Floater 2003) of the triangles given by their corner
-/// points: tan(α/2) / |e| for each edge e leaving a corner of angle α.
-/// Positive for any non-degenerate triangle.
-CornerWeights mean_value_weights(const std::vector<Triangle>& faces,
-                                 const std::function<std::array<Vec3, 3>(int)>& corners);
 /// The same weight for both directions of every M² edge (the mean of the
 /// edge's four corner weights, so the edge's total is kept).
 CornerWeights symmetrized(const std::vector<Triangle>& faces, const CornerWeights& weights);
@@ -72,12 +63,16 @@ std::optional<FlatTorusLayout> solve_flat_layout(const SurfaceMap& map,
 class FlatLayoutEnergy {
  public:
   explicit FlatLayoutEnergy(const SurfaceMap& map);
+  /// The terms of some faces of the map only (`map_faces`), given with
+  /// their corners renumbered (`faces`, indices into a layout's positions).
+  FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>& map_faces,
+                   std::vector<Triangle> faces);
   /// HUGE_VAL if a face is not counter-clockwise. With `gradient`, also
   /// ∂E/∂position (resized to the vertex count).
   double operator()(const FlatTorusLayout& layout, std::vector<Vec2>* gradient = nullptr) const;
 
  private:
-  const std::vector<Triangle>& faces_;
+  std::vector<Triangle> faces_;
   std::vector<Eigen::Matrix2d> gram_;       // Q^T Q, Q the surface edges from corner 0
   std::vector<double> forward_, backward_;  // A c_F / 2 and c_B / (2 A²)
   std::vector<double> anisotropy_;          // λ A / A_M², 0 without the penalty
@@ -106,6 +101,13 @@ struct FlatDescentStats {
 };
 FlatDescentStats descend_flat_layout(const SurfaceMap& map, FlatTorusLayout& layout,
                                      const FlatDescentOptions& options = {});
+/// The same descent on part of a layout: the faces of `energy` (given as
+/// `faces`, local indices) with `surface` the 3D position of each local
+/// vertex; only the vertices with `movable` set move (the others fix the
+/// boundary of the part).
+FlatDescentStats descend_layout(const FlatLayoutEnergy& energy, const std::vector<Triangle>& faces,
+                                const std::vector<Vec3>& surface, const std::vector<char>& movable,
+                                FlatTorusLayout& layout, const FlatDescentOptions& options = {});
 
 struct FlatReembeddingOptions {
   FlatDescentOptions descent;

@@ -1,8 +1,12 @@
 #include "refine/refine.hpp"
 
+#include "refine/disc_relaxation.hpp"
 #include "refine/flat_reembedding.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <deque>
+#include <functional>
 #include <stdexcept>
 
 namespace ism {
@@ -46,8 +50,10 @@ double local_relaxation(SurfaceMap& map, double relative_gain, double budget, st
   const std::size_t n = map.positions().size();
   std::deque<int> queue;
   std::vector<char> queued(n, 0);
-  for (std::size_t v = 0; v < n; ++v)
-    if (map.is_active(int(v)) && !map.is_pinned(int(v))) queue.push_back(int(v)), queued[v] = 1;
+  auto enqueue = [&](int v) {
+    if (!queued[v] && map.is_active(v) && !map.is_pinned(v)) queue.push_back(v), queued[v] = 1;
+  };
+  for (std::size_t v = 0; v < n; ++v) enqueue(int(v));
   const double threshold = relative_gain * map.energy() / double(map.n_vertices());
   const auto max_moves = std::size_t(budget * double(map.n_vertices()));
   double gain = 0.0;
@@ -59,8 +65,7 @@ double local_relaxation(SurfaceMap& map, double relative_gain, double budget, st
     check_operation(map, validate_each_step, "optimising", v);
     gain += g;
     if (g <= threshold) continue;
-    for (int w : map.neighbours(v))
-      if (!queued[w] && !map.is_pinned(w)) queue.push_back(w), queued[w] = 1;
+    for (int w : map.neighbours(v)) enqueue(w);
   }
   return gain;
 }
@@ -79,6 +84,10 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     check("after a global re-embedding");
   };
   auto relax_locally = [&] {
+    if (options.max_discs > 0) {
+      disc_relaxation(map, options.disc_outlier, options.max_discs, stats.discs,
+                      stats.discs_applied, options.validate_each_step);
+    }
     if (options.local_relaxation_budget <= 0) return;
     std::size_t moves = 0;
     local_relaxation(map, options.local_relaxation_gain, options.local_relaxation_budget, moves,

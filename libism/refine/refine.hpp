@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace ism {
 
@@ -30,6 +31,13 @@ struct RefineOptions {
   /// triangles in its image).
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// Before each local relaxation, discs around the faces whose energy
+  /// exceeds `disc_outlier` × the mean face energy are re-embedded whole
+  /// (disc_relaxation.hpp; at most `max_discs` faces each time, 0: never):
+  /// regions squeezed into a sliver of M¹ that vertex-at-a-time moves
+  /// cannot open.
+  double disc_outlier = 10;
+  std::size_t max_discs = 64;
   /// Stop the refinement once the surface has this many vertices (skipping
   /// the final sweeps); refine() can be called again to go on.
   std::size_t stop_at_vertices = SIZE_MAX;
@@ -54,6 +62,7 @@ struct RefineStats {
   std::size_t sweeps = 0;
   std::size_t final_sweeps = 0;
   std::size_t local_moves = 0;  // optimisations by local_relaxation
+  std::size_t discs = 0, discs_applied = 0;  // disc re-embeddings tried and kept
   std::size_t optimizations = 0;
   std::size_t single_face_rings = 0;  // optimisations whose one-ring lay in one M¹ face
   double energy_before_final = 0, energy = 0;
