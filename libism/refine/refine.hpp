@@ -36,7 +36,7 @@ struct RefineOptions {
   /// (disc_relaxation.hpp; at most `max_discs` faces each time, 0: never):
   /// regions squeezed into a sliver of M¹ that vertex-at-a-time moves
   /// cannot open.
-  double disc_outlier = 10;
+  double disc_outlier = 50;
   std::size_t max_discs = 64;
   /// Stop the refinement once the surface has this many vertices (skipping
   /// the final sweeps); refine() can be called again to go on.
