@@ -98,8 +98,9 @@ std::optional<DiscLayout> SurfaceMap::disc_layout(const std::vector<int>& vertic
         const auto twin = half_edge.find(edge_key(t[(k + 1) % 3], t[k]));
         if (twin == half_edge.end() || placed[twin->second.first]) continue;
         const auto [j, kj] = twin->second;
-        motion[j] = aligning(chart[j].corner[(kj + 1) % 3], chart[j].corner[kj],
-                             motion[i](chart[i].corner[k]), motion[i](chart[i].corner[(k + 1) % 3]));
+        motion[j] =
+            aligning(chart[j].corner[(kj + 1) % 3], chart[j].corner[kj],
+                     motion[i](chart[i].corner[k]), motion[i](chart[i].corner[(k + 1) % 3]));
         placed[j] = 1;
         queue.push_back(j);
       }

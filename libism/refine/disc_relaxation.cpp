@@ -67,8 +67,8 @@ double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
   for (std::size_t u = 0; u < surface.size(); ++u) surface[u] = map.positions()[disc->vertex[u]];
   const FlatLayoutEnergy energy(map, disc->face, disc->local);
   FlatTorusLayout layout{disc->position, {}};
-  layout.shift.assign(disc->face.size(), {Eigen::Vector2i::Zero(), Eigen::Vector2i::Zero(),
-                                          Eigen::Vector2i::Zero()});
+  layout.shift.assign(disc->face.size(),
+                      {Eigen::Vector2i::Zero(), Eigen::Vector2i::Zero(), Eigen::Vector2i::Zero()});
   double e = energy(layout);
   if (std::optional<std::vector<Vec2>> start = mean_value_positions(*disc, surface)) {
     std::swap(layout.position, *start);
@@ -95,9 +95,9 @@ double disc_relaxation(SurfaceMap& map, double outlier, std::size_t max_discs, s
   }
   if (nf == 0 || !(total < HUGE_VAL)) return 0.0;
   const double limit = outlier * total / double(nf);
-  worst.erase(std::remove_if(worst.begin(), worst.end(),
-                             [&](const auto& p) { return p.first <= limit; }),
-              worst.end());
+  worst.erase(
+      std::remove_if(worst.begin(), worst.end(), [&](const auto& p) { return p.first <= limit; }),
+      worst.end());
   std::sort(worst.begin(), worst.end(), std::greater<>());
   if (worst.size() > max_discs) worst.resize(max_discs);
   double gain = 0.0;

@@ -45,8 +45,9 @@ double optimization_sweep(SurfaceMap& map, bool validate_each_step) {
   return gain;
 }
 
-double local_relaxation(SurfaceMap& map, double relative_gain, double budget, std::size_t& moves,
-                        bool validate_each_step) {
+LocalRelaxationStats local_relaxation(SurfaceMap& map, double relative_gain, double budget,
+                                      int disc_every, int disc_rings, bool validate_each_step) {
+  LocalRelaxationStats stats;
   const std::size_t n = map.positions().size();
   std::deque<int> queue;
   std::vector<char> queued(n, 0);
@@ -56,18 +57,28 @@ double local_relaxation(SurfaceMap& map, double relative_gain, double budget, st
   for (std::size_t v = 0; v < n; ++v) enqueue(int(v));
   const double threshold = relative_gain * map.energy() / double(map.n_vertices());
   const auto max_moves = std::size_t(budget * double(map.n_vertices()));
-  double gain = 0.0;
-  for (moves = 0; !queue.empty() && moves < max_moves; ++moves) {
+  std::vector<int> gaining(n, 0);  // moves that gained, per vertex
+  while (!queue.empty() && stats.moves < max_moves) {
     const int v = queue.front();
     queue.pop_front();
     queued[v] = 0;
     const double g = map.optimize_vertex(v);
+    ++stats.moves;
     check_operation(map, validate_each_step, "optimising", v);
-    gain += g;
+    stats.gain += g;
     if (g <= threshold) continue;
     for (int w : map.neighbours(v)) enqueue(w);
+    if (disc_every <= 0 || ++gaining[v] % disc_every != 0) continue;
+    const std::vector<int> disc = map.rings_around(v, disc_rings);
+    const double d = reembed_disc(map, disc);
+    check_operation(map, validate_each_step, "re-embedding a disc around", v);
+    ++stats.discs;
+    if (d <= 0) continue;
+    ++stats.discs_applied;
+    stats.gain += d;
+    for (int w : disc) enqueue(w);
   }
-  return gain;
+  return stats;
 }
 
 RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
@@ -89,10 +100,12 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
                       stats.discs_applied, options.validate_each_step);
     }
     if (options.local_relaxation_budget <= 0) return;
-    std::size_t moves = 0;
-    local_relaxation(map, options.local_relaxation_gain, options.local_relaxation_budget, moves,
-                     options.validate_each_step);
-    stats.local_moves += moves;
+    const LocalRelaxationStats local = local_relaxation(
+        map, options.local_relaxation_gain, options.local_relaxation_budget,
+        options.local_disc_every, options.local_disc_rings, options.validate_each_step);
+    stats.local_moves += local.moves;
+    stats.discs += local.discs;
+    stats.discs_applied += local.discs_applied;
   };
   std::size_t last_sweep = map.n_vertices();
   const std::size_t total = map.splits_total();

@@ -31,6 +31,12 @@ struct RefineOptions {
   /// triangles in its image).
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// During local relaxation, a vertex that keeps gaining has the disc of
+  /// `local_disc_rings` rings around it re-embedded whole after every
+  /// `local_disc_every` gaining moves (0: never). fandisk.obj's octahedral
+  /// map: refinement 29 s -> 11 s, one-way efficiency 0.787 -> 0.804.
+  int local_disc_every = 10;
+  int local_disc_rings = 3;
   /// Before each local relaxation, discs around the faces whose energy
   /// exceeds `disc_outlier` × the mean face energy are re-embedded whole
   /// (disc_relaxation.hpp; at most `max_discs` faces each time, 0: never):
@@ -61,8 +67,8 @@ struct RefineStats {
   std::size_t splits = 0;
   std::size_t sweeps = 0;
   std::size_t final_sweeps = 0;
-  std::size_t local_moves = 0;  // optimisations by local_relaxation
-  std::size_t discs = 0, discs_applied = 0;  // disc re-embeddings tried and kept
+  std::size_t local_moves = 0;               // optimisations by local_relaxation
+  std::size_t discs = 0, discs_applied = 0;  // disc re-embeddings tried and kept (both kinds)
   std::size_t optimizations = 0;
   std::size_t single_face_rings = 0;  // optimisations whose one-ring lay in one M¹ face
   double energy_before_final = 0, energy = 0;
@@ -80,10 +86,19 @@ double optimization_sweep(SurfaceMap& map, bool validate_each_step = false);
 
 /// Re-optimises free vertices from a queue holding every active vertex in
 /// index order; a move that gains more than `relative_gain` × energy /
-/// vertices queues the mover's neighbours again. Stops when the queue is
-/// empty or after `budget` × vertices moves. Deterministic. Returns the
-/// energy decrease and counts the moves in `moves`.
-double local_relaxation(SurfaceMap& map, double relative_gain, double budget, std::size_t& moves,
-                        bool validate_each_step = false);
+/// vertices queues the mover's neighbours again. A vertex still gaining
+/// after every `disc_every` such moves (0: never) has its `disc_rings`
+/// rings re-embedded whole (reembed_disc), which queues them again when it
+/// gains: where single moves converge slowly (skinny triangles, squeezed
+/// bands) the disc's joint descent goes the distance at once. Stops when
+/// the queue is empty or after `budget` × vertices single moves.
+/// Deterministic.
+struct LocalRelaxationStats {
+  double gain = 0;  // energy decrease
+  std::size_t moves = 0, discs = 0, discs_applied = 0;
+};
+LocalRelaxationStats local_relaxation(SurfaceMap& map, double relative_gain, double budget,
+                                      int disc_every = 0, int disc_rings = 3,
+                                      bool validate_each_step = false);
 
 }  // namespace ism

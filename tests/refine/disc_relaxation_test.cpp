@@ -20,8 +20,10 @@ namespace {
 
 struct SphereMap {
   TriangleMesh octahedron = domain::octahedron();
-  DomainGeometry geometry{octahedron, octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
-  ProgressiveMesh pm{simplify_constrained(trace_octahedral_network(shapes::sphere(2000)), octahedron)};
+  DomainGeometry geometry{octahedron,
+                          octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
+  ProgressiveMesh pm{
+      simplify_constrained(trace_octahedral_network(shapes::sphere(2000)), octahedron)};
   SurfaceMap map{geometry, pm};
   explicit SphereMap(std::size_t vertices) {
     RefineOptions options;
@@ -64,8 +66,7 @@ TEST(DiscLayout, AgreesWithTheFaceChartsAndRefusesACone) {
                                      disc->position[t[2]]};
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(edge(placed, k), edge(chart.corner, k), 1e-12);
     EXPECT_GT(orient(placed[0], placed[1], placed[2]), 0);
-    for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(disc->vertex[t[k]], map.faces()[disc->face[i]][k]);
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(disc->vertex[t[k]], map.faces()[disc->face[i]][k]);
   }
   // The neighbours of a cone: their faces go all the way round it, which no
   // flat chart holds.
@@ -126,9 +127,9 @@ double squeeze_a_patch(SurfaceMap& map) {
     const double r = d.norm();
     if (!(r > 0) || r >= outer) continue;
     // r -> scale·r inside, then linear up to the identity at `outer`.
-    const double to = r < inner ? scale * r
-                                : scale * inner + (r - inner) * (outer - scale * inner) /
-                                                      (outer - inner);
+    const double to = r < inner
+                          ? scale * r
+                          : scale * inner + (r - inner) * (outer - scale * inner) / (outer - inner);
     layout.position[v] += d * (to / r - 1);
   }
   EXPECT_TRUE(map.set_flat_layout(layout));
@@ -156,6 +157,27 @@ TEST(DiscRelaxation, OpensASqueezedPatch) {
   EXPECT_GT(t.map.energy(), 5 * map.energy());
   std::printf("  optimised %.4f, squeezed %.4f; %zu of %zu discs -> %.4f; 5 sweeps -> %.4f\n",
               optimised, squeezed, applied, tried, map.energy(), t.map.energy());
+}
+
+// Local relaxation that re-embeds the disc around a vertex still gaining
+// after every 10 moves opens the same squeeze further.
+TEST(DiscRelaxation, LocalRelaxationWithDiscsGoesFurther) {
+  test::TorusMap with(shapes::torus(1500, 2, 1)), without(shapes::torus(1500, 2, 1));
+  const double optimised = squeeze_a_patch(with.map);
+  squeeze_a_patch(without.map);
+  const double squeezed = with.map.energy();
+  const LocalRelaxationStats a = local_relaxation(with.map, 1e-4, 100, 10, 3, true);
+  const LocalRelaxationStats b = local_relaxation(without.map, 1e-4, 100, 0, 3);
+  EXPECT_EQ(with.map.validate(), std::nullopt);
+  EXPECT_NEAR(squeezed - with.map.energy(), a.gain, 1e-9 * squeezed);
+  EXPECT_GT(a.discs_applied, 0u);
+  EXPECT_EQ(b.discs, 0u);
+  EXPECT_LT(with.map.energy(), without.map.energy());
+  EXPECT_LT(with.map.energy(), 1.5 * optimised);
+  std::printf(
+      "  squeezed %.4f: with discs %.4f (%zu moves, %zu of %zu discs), without %.4f (%zu moves)\n",
+      squeezed, with.map.energy(), a.moves, a.discs_applied, a.discs, without.map.energy(),
+      b.moves);
 }
 
 }  // namespace

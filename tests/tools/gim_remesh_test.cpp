@@ -95,18 +95,15 @@ TEST_P(GimRemeshSharedModel, ValidWatertightAndAboveItsFloors) {
 }
 
 // dragon is known to be poor: no floors.
-INSTANTIATE_TEST_SUITE_P(EveryClosedGenusZero, GimRemeshSharedModel,
-                         ::testing::Values(Floor{"bunny_small", 71.3, 0.75, 40},
-                                           Floor{"spot", 74.7, 0.69, 5},
-                                           Floor{"gargoyle", 68.7, 0.70, 30},
-                                           Floor{"max_planck", 77.5, 0.88, 5},
-                                           Floor{"igea", 72.6, 0.90, 10},
-                                           Floor{"nefertiti", 71.7, 0.70, 30},
-                                           Floor{"fandisk", 73.5, 0.84, 5},
-                                           Floor{"sphere", 85.8, 0.88, 0},
-                                           Floor{"cube", 72.4, 0.85, 5},
-                                           Floor{"bunny", 70.3, 0.75, 60}, Floor{"dragon"}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    EveryClosedGenusZero, GimRemeshSharedModel,
+    ::testing::Values(Floor{"bunny_small", 71.3, 0.75, 40}, Floor{"spot", 74.7, 0.69, 5},
+                      Floor{"gargoyle", 68.7, 0.70, 30}, Floor{"max_planck", 77.5, 0.88, 5},
+                      Floor{"igea", 72.6, 0.90, 10}, Floor{"nefertiti", 71.7, 0.70, 30},
+                      Floor{"fandisk", 73.5, 0.84, 5}, Floor{"sphere", 85.8, 0.88, 0},
+                      Floor{"cube", 72.4, 0.85, 5}, Floor{"bunny", 70.3, 0.75, 60},
+                      Floor{"dragon"}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 TEST(GimRemesh, UnsuitableSurfacesAreRefusedWithoutOutput) {
   ISM_REQUIRE_SHARED_MODELS();
