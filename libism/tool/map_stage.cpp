@@ -47,6 +47,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
           RefineOptions options;
           options.max_final_sweeps = settings.final_sweeps;
           options.global_flat_reembedding = stage.global_flat_reembedding;
+          options.local_disc_every = stage.local_disc_every;
           if (i == first) options.progress = [&](double f) { progress.update(f); };
           out.result.stats = refine(*out.result.setup->map, options);
           out.score = score(*out.result.setup->map);

@@ -51,6 +51,9 @@ struct MapStage {
   /// RefineOptions::global_flat_reembedding (only where it applies: a flat
   /// torus domain with released features).
   bool global_flat_reembedding = false;
+  /// RefineOptions::local_disc_every (0: local relaxation moves one vertex
+  /// at a time only).
+  int local_disc_every = RefineOptions{}.local_disc_every;
   std::string hint;  // what to try when the optimisation fails
   /// A variant scoring below this sends MapSettings::fallback_variants in.
   double retry_below = -HUGE_VAL;
