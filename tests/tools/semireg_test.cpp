@@ -17,6 +17,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
 using ism::test::slurp;
@@ -143,20 +144,35 @@ TEST(Semireg, BaseVerticesWithoutFaces) {
 TEST(Semireg, SharedModelsOfEveryGenus) {
   ISM_REQUIRE_SHARED_MODELS();
   const fs::path dir = scratch_dir("semireg");
+  // Floors (measured at commit time, a little below): one-way efficiency
+  // base -> surface of the map, PSNR of the level-3 remesh.
   const struct {
     const char* name;
     int base_size, genus;
-  } cases[] = {{"bunny_small", 100, 0}, {"torus", 50, 1}, {"double_torus", 50, 2}};
+    double efficiency, psnr;
+  } cases[] = {{"bunny_small", 100, 0, 0.92, 67.0},
+               {"torus", 50, 1, 0.92, 70.3},
+               {"double_torus", 50, 2, 0.90, 66.7}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     const fs::path out = dir / (std::string(c.name) + "_sr.ply"),
-                   base = dir / (std::string(c.name) + "_base.obj");
+                   base = dir / (std::string(c.name) + "_base.obj"),
+                   report = dir / (std::string(c.name) + "_sr.json");
     const auto r = run_tool(
         "semireg", (ism::test::shared_models_dir() / (std::string(c.name) + ".obj")).string() +
                        " -o " + out.string() + " --base-size " + std::to_string(c.base_size) +
-                       " --levels 3 --write-base " + base.string() + " -q");
+                       " --levels 3 --write-base " + base.string() + " --report " +
+                       report.string() + " -q");
     ASSERT_EQ(r.status, 0) << r.err;
     expect_semiregular(out, base, 3, c.genus);
+    const std::string json = slurp(report);
+    const double efficiency = report_number(json, "efficiency_domain_to_surface", "map"),
+                 psnr = report_number(json, "psnr_db", "distance");
+    std::printf("%-12s base %d: one-way efficiency %.4f, PSNR %.2f dB\n", c.name, c.base_size,
+                efficiency, psnr);
+    EXPECT_NE(json.find("\"valid\": true"), std::string::npos);
+    EXPECT_GE(efficiency, c.efficiency);
+    EXPECT_GE(psnr, c.psnr);
   }
 }
 
