@@ -8,12 +8,13 @@ echo "Octahedral map, $metric metric, $(nproc) cores, commit $commit. Times in s
 echo "One map per model with the library's defaults (MapOptions: symmetric energy, relaxed cone moves; RefineOptions: level sweeps, local relaxation, final sweeps); the tools add variants and weights on top."
 echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetric (sym)."
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
-echo "Discs: disc re-embeddings kept / tried (RefineOptions::disc_outlier, max_discs)."
+echo "Discs: disc re-embeddings kept / tried (RefineOptions: outlier discs and discs in local relaxation)."
+echo "Queries (MapSampler): sample 1025²: the 1025x1025 octahedral geometry image, domain -> surface (threads as gim-remesh); back 1025²: as many points surface -> domain, one thread."
 echo
 echo "Partition: all candidate networks; pm + choice: their progressive meshes and coarse maps (1000 vertices)."
 echo
-echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path | discs |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|"
+echo "| model | faces | Steiner | networks | partition | pm + choice | refine | validate | total | peak MB | valid | fwd | bwd | sym | fast path | discs | sample 1025² s | back 1025² s |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|"
 for m in bunny spot gargoyle dragon max_planck igea nefertiti fandisk sphere cube bunny_small; do
   "$bin/map_bench" "$models_dir/$m.obj" "$metric" || true
 done

@@ -11,8 +11,10 @@
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "refine/network_choice.hpp"
+#include "sample/sample.hpp"
 #include "tool/tool.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -46,14 +48,33 @@ int main(int argc, char** argv) {
   const bool valid = !map.validate();
   const auto t5 = Clock::now();
   const ism::MapMeasures m = map.measures();
+  // Queries: a 1025² octahedral geometry image (domain -> surface, on the
+  // threads sample_octahedral uses), then as many points back (surface ->
+  // domain, one thread), spread over the faces of M².
+  const auto t6 = Clock::now();
+  const ism::MapSampler sampler(map);
+  std::atomic<std::size_t> missed = 0;
+  ism::sample_octahedral(1025, [&](const ism::OctahedronPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    missed += !s;
+    return s ? s->position : ism::Vec3::Zero();
+  });
+  const auto t7 = Clock::now();
+  const std::size_t n_back = 1025 * 1025;
+  for (std::size_t i = 0; i < n_back; ++i) {
+    const double a = double(i % 97) / 97.0, b = (1.0 - a) * double(i % 89) / 89.0;
+    missed += !sampler.domain_point(int(i % map.n_faces()), Eigen::Vector3d(a, b, 1 - a - b));
+  }
+  const auto t8 = Clock::now();
   std::printf(
       "| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f "
-      "| %.1f%% | %zu / %zu |\n",
+      "| %.1f%% | %zu / %zu | %.2f | %.2f%s |\n",
       std::filesystem::path(argv[1]).filename().c_str(), surface.n_faces(),
       network.steiner_vertices(), candidates, seconds(t1, t2), seconds(t2, t3), seconds(t3, t4),
       seconds(t4, t5), seconds(t0, t5), ism::tool::peak_memory_bytes() / 1048576.0,
       valid ? "yes" : "NO", m.forward_efficiency, m.backward_efficiency, m.symmetric_efficiency,
       100.0 * stats.single_face_rings / std::max<std::size_t>(1, stats.optimizations),
-      stats.discs_applied, stats.discs);
+      stats.discs_applied, stats.discs, seconds(t6, t7), seconds(t7, t8),
+      missed ? " (missed)" : "");
   return valid ? 0 : 1;
 }
