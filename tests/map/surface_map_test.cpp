@@ -9,6 +9,7 @@
 #include "partition/partition.hpp"
 #include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
+#include "refine/disc_relaxation.hpp"
 #include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
@@ -135,8 +136,8 @@ namespace {
 
 // Refinement validated after every split and the optimisation that follows
 // it and after every sweep, then random operations (vertex moves and cone
-// relocations) in a fixed pseudo-random order, each validated and each
-// lowering the energy by what it reports.
+// relocations, disc re-embeddings) in a fixed pseudo-random order, each
+// validated and each lowering the energy by what it reports.
 void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLengths>& lengths,
                       const PathNetwork& network) {
   const DomainGeometry geometry(domain_mesh, lengths);
@@ -162,7 +163,10 @@ void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLen
     const int v = int(next() % map.positions().size());
     if (!map.is_active(v)) continue;
     const double before = map.energy();
-    const double gain = map.is_pinned(v) ? map.relocate_cone(v) : map.optimize_vertex(v);
+    // Every eighth operation re-embeds the 2-ring disc around v whole.
+    const double gain = map.is_pinned(v) ? map.relocate_cone(v)
+                        : i % 8 == 0     ? reembed_disc(map, map.rings_around(v, 2))
+                                         : map.optimize_vertex(v);
     ASSERT_EQ(map.validate(), std::nullopt) << "after operation " << i << " on vertex " << v;
     EXPECT_NEAR(before - map.energy(), gain, 1e-6 * before);
   }
