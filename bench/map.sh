@@ -9,7 +9,7 @@ echo "One map per model with the library's defaults (MapOptions: symmetric energ
 echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetric (sym)."
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
 echo "Discs: disc re-embeddings kept / tried (RefineOptions: outlier discs and discs in local relaxation)."
-echo "Queries (MapSampler): sample 1025²: the 1025x1025 octahedral geometry image, domain -> surface (threads as gim-remesh); back 1025²: as many points surface -> domain, one thread."
+echo "Queries (MapSampler): sample 1025²: the 1025x1025 octahedral geometry image, domain -> surface (threads as gim-remesh); back 1025²: as many points surface -> domain, one thread. Peak memory includes the image (25 MB)."
 echo
 echo "Partition: all candidate networks; pm + choice: their progressive meshes and coarse maps (1000 vertices)."
 echo
