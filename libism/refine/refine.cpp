@@ -3,10 +3,7 @@
 #include "refine/disc_relaxation.hpp"
 #include "refine/flat_reembedding.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <deque>
-#include <functional>
 #include <stdexcept>
 
 namespace ism {
