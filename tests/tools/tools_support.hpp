@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -31,9 +33,12 @@ inline std::string slurp(const std::filesystem::path& p) {
 }
 
 /// Runs build/bin/TOOL ARGS; stdout and stderr go to files named after the
-/// current test, since ctest runs tests in parallel.
+/// current test, since ctest runs tests in parallel ('/' of parameterised
+/// test names replaced).
 inline ToolResult run_tool(const std::string& tool, const std::string& args) {
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string test = std::string(info->test_suite_name()) + "." + info->name();
+  std::replace(test.begin(), test.end(), '/', '_');
   const auto dir = scratch_dir("tools");
   const auto out = dir / (test + ".stdout"), err = dir / (test + ".stderr");
   const std::string cmd = (binary_dir() / "bin" / tool).string() + " " + args + " >" +
