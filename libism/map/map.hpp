@@ -2,6 +2,7 @@
 // The map core: the meta-mesh between a refining surface and a coarse
 // domain, its local operations, validation, measures and queries.
 #include "map/domain_geometry.hpp"
+#include "map/meta_mesh.hpp"
 #include "map/overlay.hpp"
 #include "map/sampler.hpp"
 #include "map/surface_map.hpp"

@@ -218,6 +218,8 @@ class SurfaceMap {
     std::array<std::array<Vec2, 3>, 3> walk_layout;  // start layout of each corner's walk
   };
   bool face_chart(int t, FaceChart& chart) const;
+  /// The walk over M¹ of the half-edge from corner k to corner k+1 of face t.
+  const EdgeWalk& walk(int t, int k) const { return walks_[t][k]; }
   /// Symmetric energy of one face given its domain triangle in a chart.
   double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
   /// Weight of face t's forward stretch (MapOptions::curvature_weight).
@@ -323,7 +325,6 @@ class SurfaceMap {
   int corner_of(int f, int v) const;
   int face_after(int v, int x) const;
   EdgeWalk& walk(int f, int corner) { return walks_[f][corner]; }
-  const EdgeWalk& walk(int f, int corner) const { return walks_[f][corner]; }
 
   const DomainGeometry& domain_;
   const ProgressiveMesh& pm_;

@@ -1,0 +1,98 @@
+#pragma once
+// The meta-mesh of a map (DESIGN.md §4) in symmetric form: two triangle
+// meshes, each with a per-face metric, each vertex located on the other mesh
+// and each edge's ordered crossings with the other mesh's edges, stored the
+// same way for both, so that either mesh can be read as the domain. Built
+// from a SurfaceMap (which stores the map from M²'s side only), validated
+// and measured from its pieces without reference to that SurfaceMap: the
+// check that both sides describe one overlay, and the form in which a map
+// leaves the library (write_meta_mesh).
+#include "map/surface_map.hpp"
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ism {
+
+/// Where a vertex of one mesh lies on the other: exactly on its vertex
+/// `vertex`, or inside its face `face` at barycentric coordinates `bary`.
+struct MetaLocation {
+  int vertex = -1;
+  int face = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+/// A crossing of an edge with an edge of the other mesh: `here` is the
+/// parameter along this edge (0 at its first vertex, 1 at its second),
+/// `there` the parameter along the other edge, measured the same way.
+struct MetaCrossing {
+  int edge;
+  double here, there;
+};
+
+/// One mesh of a meta-mesh.
+struct MetaSide {
+  std::vector<Triangle> faces;
+  /// The face's metric: lengths[f][k] is the edge from corner k to k+1.
+  std::vector<FaceLengths> lengths;
+  /// Undirected edges, first vertex < second, and face_edges[f][k] the edge
+  /// from corner k to corner k+1 of face f.
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> face_edges;
+  /// Per vertex (unused vertices: vertex and face -1).
+  std::vector<MetaLocation> location;
+  /// Per edge, ordered by `here`.
+  std::vector<std::vector<MetaCrossing>> crossings;
+
+  std::size_t n_vertices() const { return location.size(); }
+};
+
+/// side[0] is M¹ (the domain of a SurfaceMap), side[1] M² (the surface).
+struct MetaMesh {
+  std::array<MetaSide, 2> side;
+};
+
+/// The meta-mesh of a map at its current resolution. M²'s metric is the
+/// lengths of its 3D edges; its vertex numbers are the map's (vertices not
+/// yet split off are unused). Nothing if the map does not validate.
+std::optional<MetaMesh> meta_mesh(const SurfaceMap& map);
+
+/// The same meta-mesh with the two sides exchanged.
+MetaMesh swapped(const MetaMesh& meta);
+
+/// Fills edges and face_edges of a side from its faces; false (nothing
+/// filled) if two faces share an edge the same way or an edge has no twin.
+bool build_edges(MetaSide& side);
+
+/// The invariants of DESIGN.md §4 checked on the meta-mesh alone, the same
+/// way from both sides: every edge of one mesh runs through faces of the
+/// other consistently with its crossings and end locations; crossings are
+/// recorded by both edges with the same parameters and strictly ordered;
+/// the pieces each face is cut into (the cells its arrangement of the other
+/// mesh's edges forms, in the face's metric) have positive area and sum to
+/// the face's area within 1e-9 relative; and the pieces of the two sides are
+/// the same cells, each once (the map is a bijection). The first violation.
+std::optional<std::string> validate(const MetaMesh& meta);
+
+/// Stretch measures over the pieces, side[0] read as the domain; nothing if
+/// the meta-mesh does not validate. For a meta-mesh of a SurfaceMap they
+/// agree with SurfaceMap::measures(), which works on whole M² faces.
+std::optional<MapMeasures> measures(const MetaMesh& meta);
+
+/// Counts of a meta-mesh's elements.
+struct MetaMeshSize {
+  std::size_t crossings = 0;        // edge pairs that cross
+  std::size_t vertices_inside = 0;  // vertices inside a face of the other mesh
+  std::size_t shared_vertices = 0;  // vertices of both meshes at one point
+  std::size_t pieces = 0;
+};
+MetaMeshSize meta_mesh_size(const MetaMesh& meta);
+
+/// Writes a meta-mesh as text (format in the README, "Meta-mesh files").
+/// Returns false if the file cannot be written.
+bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path);
+
+}  // namespace ism

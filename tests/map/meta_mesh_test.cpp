@@ -1,0 +1,166 @@
+// The symmetric meta-mesh: built from maps at every stage of a refinement,
+// it validates from both sides, its measures are the map's, and validate()
+// finds corruptions of either side.
+#include "domain/domain.hpp"
+#include "map/map.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine.hpp"
+#include "shapes/shapes.hpp"
+#include "test_support.hpp"
+#include "torus_map_fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace ism {
+namespace {
+
+struct OctahedralMap {
+  TriangleMesh octahedron = domain::octahedron();
+  DomainGeometry geometry{octahedron,
+                          octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
+  PathNetwork network;
+  ProgressiveMesh pm;
+  SurfaceMap map;
+  explicit OctahedralMap(const TriangleMesh& surface)
+      : network(trace_octahedral_network(surface)),
+        pm(simplify_constrained(network, octahedron)),
+        map(geometry, pm) {}
+};
+
+/// The meta-mesh of `map` validates from both sides and measures as the map.
+void expect_same_overlay(const SurfaceMap& map) {
+  const auto meta = meta_mesh(map);
+  ASSERT_TRUE(meta.has_value());
+  ASSERT_EQ(validate(*meta), std::nullopt);
+  const MetaMesh other = swapped(*meta);
+  ASSERT_EQ(validate(other), std::nullopt);
+  const MapMeasures expected = map.measures();
+  const auto m = measures(*meta);
+  const auto s = measures(other);
+  ASSERT_TRUE(m && s);
+  EXPECT_NEAR(m->symmetric_efficiency, expected.symmetric_efficiency, 1e-9);
+  EXPECT_NEAR(m->forward_efficiency, expected.forward_efficiency, 1e-9);
+  EXPECT_NEAR(m->backward_efficiency, expected.backward_efficiency, 1e-9);
+  // Read the other way round, the one-way measures exchange.
+  EXPECT_NEAR(s->symmetric_efficiency, expected.symmetric_efficiency, 1e-9);
+  EXPECT_NEAR(s->forward_efficiency, expected.backward_efficiency, 1e-9);
+  EXPECT_NEAR(s->backward_efficiency, expected.forward_efficiency, 1e-9);
+}
+
+TEST(MetaMesh, BaseMapIsTwoCopiesOfOneMesh) {
+  OctahedralMap s(shapes::sphere(500));
+  const auto meta = meta_mesh(s.map);
+  ASSERT_TRUE(meta.has_value());
+  EXPECT_EQ(validate(*meta), std::nullopt);
+  const MetaMeshSize size = meta_mesh_size(*meta);
+  EXPECT_EQ(size.crossings, 0u);
+  EXPECT_EQ(size.vertices_inside, 0u);
+  EXPECT_EQ(size.shared_vertices, 6u);
+  EXPECT_EQ(size.pieces, 8u);
+}
+
+TEST(MetaMesh, BothSidesDescribeOneOverlayThroughoutARefinement) {
+  OctahedralMap s(shapes::blob(1200, 4, 0.4));
+  for (int v; (v = s.map.split_next()) >= 0;) {
+    for (int w : s.map.neighbours(v)) s.map.optimize_vertex(w);
+    s.map.optimize_vertex(v);
+    if (s.map.splits_applied() % 25 == 0) {
+      SCOPED_TRACE(s.map.splits_applied());
+      expect_same_overlay(s.map);
+    }
+  }
+  refine(s.map, {.max_final_sweeps = 2});
+  expect_same_overlay(s.map);
+  const MetaMeshSize size = meta_mesh_size(*meta_mesh(s.map));
+  std::printf("blob: %zu crossings, %zu vertices inside a face, %zu shared, %zu pieces\n",
+              size.crossings, size.vertices_inside, size.shared_vertices, size.pieces);
+  // 600 surface vertices inside octahedron faces or on its 6 vertices.
+  EXPECT_EQ(size.vertices_inside + 2 * size.shared_vertices, s.map.n_vertices() + 6);
+  EXPECT_GT(size.crossings, 100u);
+  EXPECT_GT(size.pieces, s.map.n_faces());
+}
+
+TEST(MetaMesh, FlatTorusDomainWithoutCones) {
+  test::TorusMap t(shapes::torus(600));
+  refine(t.map, {.max_final_sweeps = 2});
+  ASSERT_EQ(t.map.validate(), std::nullopt);
+  expect_same_overlay(t.map);
+  // No vertex of the 3×3 torus is a cone: once released, they all lie inside faces.
+  const MetaMeshSize size = meta_mesh_size(*meta_mesh(t.map));
+  EXPECT_GT(size.crossings, 0u);
+}
+
+TEST(MetaMesh, ValidateFindsCorruptionOfEitherSide) {
+  OctahedralMap s(shapes::blob(600, 4, 0.4));
+  refine(s.map, {.max_final_sweeps = 1});
+  const MetaMesh good = *meta_mesh(s.map);
+  ASSERT_EQ(validate(good), std::nullopt);
+  // An edge of each side with crossings, and an M² vertex inside a face.
+  int e0 = 0, e1 = 0, inside = 0;
+  while (good.side[0].crossings[e0].size() < 2) ++e0;
+  while (good.side[1].crossings[e1].empty()) ++e1;
+  while (good.side[1].location[inside].face < 0) ++inside;
+
+  MetaMesh bad = good;  // a crossing moved along one edge only
+  bad.side[1].crossings[e1][0].here *= 0.999;
+  ASSERT_TRUE(validate(bad).has_value());
+  std::printf("moved crossing: %s\n", validate(bad)->c_str());
+
+  bad = good;  // two crossings of an M¹ edge exchanged
+  std::swap(bad.side[0].crossings[e0][0], bad.side[0].crossings[e0][1]);
+  EXPECT_TRUE(validate(bad).has_value());
+
+  bad = good;  // a crossing dropped from both sides
+  {
+    const MetaCrossing c = bad.side[1].crossings[e1][0];
+    bad.side[1].crossings[e1].erase(bad.side[1].crossings[e1].begin());
+    auto& list = bad.side[0].crossings[c.edge];
+    list.erase(std::find_if(list.begin(), list.end(),
+                            [&](const MetaCrossing& x) { return x.edge == e1; }));
+  }
+  ASSERT_TRUE(validate(bad).has_value());
+  std::printf("dropped crossing: %s\n", validate(bad)->c_str());
+
+  bad = good;  // an M² vertex placed in another face
+  bad.side[1].location[inside].face = (bad.side[1].location[inside].face + 1) % 8;
+  ASSERT_TRUE(validate(bad).has_value());
+  std::printf("vertex in another face: %s\n", validate(bad)->c_str());
+
+  bad = good;  // an M² vertex moved to a corner of its face: its edges fold
+  bad.side[1].location[inside].bary = {1 - 2e-9, 1e-9, 1e-9};
+  ASSERT_TRUE(validate(bad).has_value());
+  std::printf("vertex moved: %s\n", validate(bad)->c_str());
+  EXPECT_FALSE(measures(bad).has_value());
+
+  bad = swapped(good);  // the same corruption, the sides exchanged
+  bad.side[0].location[inside].bary = {1 - 2e-9, 1e-9, 1e-9};
+  EXPECT_TRUE(validate(bad).has_value());
+}
+
+TEST(MetaMesh, WritesEveryRecord) {
+  OctahedralMap s(shapes::sphere(400));
+  refine(s.map, {.max_final_sweeps = 1});
+  const MetaMesh meta = *meta_mesh(s.map);
+  const auto path = std::filesystem::temp_directory_path() / "ism_meta_mesh_test.meta";
+  ASSERT_TRUE(write_meta_mesh(meta, path));
+  std::ifstream in(path);
+  std::string header, word;
+  std::getline(in, header);
+  EXPECT_EQ(header, "ism-meta-mesh 1");
+  std::map<std::string, std::size_t> count;
+  for (std::string line; std::getline(in, line);) ++count[line.substr(0, line.find(' '))];
+  const MetaMeshSize size = meta_mesh_size(meta);
+  EXPECT_EQ(count["mesh"], 2u);
+  EXPECT_EQ(count["f"], 8 + s.map.n_faces());
+  EXPECT_EQ(count["x"], size.crossings);
+  EXPECT_EQ(count["in"], size.vertices_inside);
+  EXPECT_EQ(count["on"], size.shared_vertices);
+}
+
+}  // namespace
+}  // namespace ism
