@@ -18,6 +18,9 @@ inline void add_common_options(CLI::App& app, CommonOptions& options) {
 /// --hold-features, --final-sweeps, --inverse-weight and --curvature-weight, the same in every
 /// front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
+  app.add_option("--meta-mesh", settings.meta_mesh_path,
+                 "The map as a meta-mesh: both meshes, each vertex located on the other, each "
+                 "edge's crossings (text, README \"Meta-mesh files\")");
   app.add_flag("--hold-features", settings.hold_features,
                "Keep the features fixed during optimisation");
   app.add_option("--final-sweeps", settings.final_sweeps,

@@ -1,5 +1,6 @@
 #include "tool/map_stage.hpp"
 
+#include "io/io.hpp"
 #include "tool/failure.hpp"
 
 #include <tbb/task_group.h>
@@ -119,6 +120,30 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       write_patch_dump(kept_result.setup->network, p);
     });
   return kept_result;
+}
+
+MetaMesh validate_map(Run& run, const SurfaceMap& map) {
+  run.stage("validate");
+  const std::string invalid = run.tool_name() + ": internal error, the map is invalid: ";
+  if (const auto problem = map.validate()) throw Failure(invalid + *problem);
+  // The same map from both sides, independently of how SurfaceMap stores it.
+  std::optional<MetaMesh> meta = meta_mesh(map);
+  if (!meta) throw Failure(invalid + "it has no meta-mesh");
+  if (const auto problem = validate(*meta)) throw Failure(invalid + "meta-mesh: " + *problem);
+  const MetaMeshSize size = meta_mesh_size(*meta);
+  Json& j = run.report()["meta_mesh"];
+  j["valid"] = true;
+  j["pieces"] = size.pieces;
+  j["crossings"] = size.crossings;
+  j["vertices_inside_faces"] = size.vertices_inside;
+  j["shared_vertices"] = size.shared_vertices;
+  return std::move(*meta);
+}
+
+void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta) {
+  write_output(run, settings.meta_mesh_path, [&](const std::filesystem::path& p) {
+    if (!write_meta_mesh(meta, p)) throw io::FileError("cannot write " + p.string());
+  });
 }
 
 }  // namespace ism::tool

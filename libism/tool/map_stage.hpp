@@ -9,6 +9,7 @@
 // reaches the better map depends on the surface (a low inverse-stretch weight
 // lifts the one-way efficiency of most models but traps flat-faced ones such
 // as cube.obj in folds the symmetric energy avoids).
+#include "map/meta_mesh.hpp"
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
@@ -43,6 +44,8 @@ struct MapSettings {
   std::vector<MapVariant> fallback_variants;
   /// The options of variant i.
   MapOptions map_options(std::size_t i) const;
+  /// --meta-mesh: the map written as a meta-mesh (map/meta_mesh.hpp); empty: none.
+  std::string meta_mesh_path;
 };
 
 struct MapStage {
@@ -84,5 +87,14 @@ struct MapStageResult {
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);
+
+/// The "validate" stage every front end ends its map with: the map's
+/// invariants (SurfaceMap::validate), then its meta-mesh validated from both
+/// sides. A violation throws Failure "<tool>: internal error, the map is
+/// invalid: <why>". The report gets "meta_mesh" (valid, sizes). Returns the
+/// meta-mesh, for write_meta_mesh_output.
+MetaMesh validate_map(Run& run, const SurfaceMap& map);
+/// Writes the meta-mesh to settings.meta_mesh_path, if given (write_output).
+void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta);
 
 }  // namespace ism::tool

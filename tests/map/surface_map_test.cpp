@@ -138,6 +138,13 @@ namespace {
 // it and after every sweep, then random operations (vertex moves and cone
 // relocations, disc re-embeddings) in a fixed pseudo-random order, each
 // validated and each lowering the energy by what it reports.
+// The map's meta-mesh validates from both sides (map/meta_mesh.hpp).
+void expect_valid_meta_mesh(const SurfaceMap& map) {
+  const auto meta = meta_mesh(map);
+  ASSERT_TRUE(meta.has_value());
+  EXPECT_EQ(validate(*meta), std::nullopt) << "at " << map.n_vertices() << " vertices";
+}
+
 void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLengths>& lengths,
                       const PathNetwork& network) {
   const DomainGeometry geometry(domain_mesh, lengths);
@@ -152,6 +159,7 @@ void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLen
     if (map.n_vertices() >= 3 * last_sweep / 2) {
       optimization_sweep(map);
       ASSERT_EQ(map.validate(), std::nullopt) << "after a sweep at " << map.n_vertices();
+      expect_valid_meta_mesh(map);
       last_sweep = map.n_vertices();
     }
   }
@@ -169,6 +177,7 @@ void refine_and_shake(const TriangleMesh& domain_mesh, const std::vector<FaceLen
                                          : map.optimize_vertex(v);
     ASSERT_EQ(map.validate(), std::nullopt) << "after operation " << i << " on vertex " << v;
     EXPECT_NEAR(before - map.energy(), gain, 1e-6 * before);
+    if (i % 50 == 49) expect_valid_meta_mesh(map);
   }
 }
 

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -33,11 +35,13 @@ void expect_watertight_image(const fs::path& exr, int n) {
 TEST(GimRemesh, GeneratedBlobGivesAWatertightImageAndAReport) {
   const fs::path dir = scratch_dir("gim");
   const fs::path blob = dir / "blob.obj", exr = dir / "blob.exr", mesh = dir / "blob.ply",
-                 drc = dir / "blob.drc", report = dir / "blob.json", png = dir / "blob.png";
+                 drc = dir / "blob.drc", report = dir / "blob.json", png = dir / "blob.png",
+                 meta = dir / "blob.meta";
   ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 3000 -o " + blob.string()).status, 0);
-  const auto r = run_tool("gim-remesh", blob.string() + " -o " + exr.string() +
-                                            " --size 65 --mesh " + mesh.string() + " --preview " +
-                                            png.string() + " --report " + report.string() + " -q");
+  const auto r =
+      run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 65 --mesh " +
+                                 mesh.string() + " --preview " + png.string() + " --meta-mesh " +
+                                 meta.string() + " --report " + report.string() + " -q");
   ASSERT_EQ(r.status, 0) << r.err;
   expect_watertight_image(exr, 65);
   EXPECT_TRUE(fs::exists(mesh));
@@ -47,6 +51,21 @@ TEST(GimRemesh, GeneratedBlobGivesAWatertightImageAndAReport) {
                           "\"flipped_triangles\"", "\"psnr_db\"", "\"peak_memory_mb\"",
                           "\"valid\": true", "\"curvature_weight\": 0.5"})
     EXPECT_NE(json.find(key), std::string::npos) << key;
+  // The map as a meta-mesh: validated from both sides, one record per crossing.
+  const std::size_t section = json.find("\"meta_mesh\": {");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_NE(json.substr(section, json.find('}', section) - section).find("\"valid\": true"),
+            std::string::npos);
+  std::ifstream in(meta);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "ism-meta-mesh 1");
+  std::getline(in, line);
+  EXPECT_EQ(line, "mesh 0 6 8");
+  std::size_t crossings = 0;
+  while (std::getline(in, line)) crossings += line.rfind("x ", 0) == 0;
+  EXPECT_GT(crossings, 0u);
+  EXPECT_EQ(double(crossings), report_number(json, "crossings", "meta_mesh"));
   ASSERT_EQ(run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --size 33 --mesh " +
                                        drc.string() + " -q")
                 .status,

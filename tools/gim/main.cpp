@@ -121,9 +121,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   run.report()["partition"]["candidate_networks"] = candidates;
   const SurfaceMap& map = *chosen->map;
 
-  run.stage("validate");
-  const auto problem = map.validate();
-  if (problem) throw tool::Failure("gim-remesh: internal error, the map is invalid: " + *problem);
+  const MetaMesh meta = tool::validate_map(run, map);
 
   run.stage("sample");
   const MapSampler sampler(map);
@@ -143,6 +141,7 @@ int run_gim(const Options& o, const tool::CommonOptions& common) {
   });
 
   run.stage("write");
+  tool::write_meta_mesh_output(run, o.map, meta);
   tool::write_output(run, o.output,
                      [&](const std::filesystem::path& p) { write_geometry_image(image, p); });
   tool::write_output(run, o.normals, [&](const std::filesystem::path& p) {

@@ -272,9 +272,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
   }
   run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
 
-  run.stage("validate");
-  if (const auto problem = map.validate())
-    throw tool::Failure("semireg: internal error, the map is invalid: " + *problem);
+  const MetaMesh meta = tool::validate_map(run, map);
 
   run.stage("sample");
   const MapSampler sampler(map);
@@ -290,6 +288,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     used_base.positions[v] = remesh.positions[v];
 
   run.stage("write");
+  tool::write_meta_mesh_output(run, o.map, meta);
   tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
     io::write_mesh_file(remesh, p, o.draco_bits);
   });

@@ -221,9 +221,7 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
                                   : "it gives a worse, twisted map (oriented against the domain)"));
   }
 
-  run.stage("validate");
-  if (const auto problem = map.validate())
-    throw tool::Failure("torus-remesh: internal error, the map is invalid: " + *problem);
+  const MetaMesh meta = tool::validate_map(run, map);
 
   run.stage("sample");
   const TorusGrid grid = sample(map);
@@ -231,6 +229,7 @@ int run_torus(const Options& o, const tool::CommonOptions& common) {
   const TriangleMesh triangles = torus_grid_triangles(grid);
 
   run.stage("write");
+  tool::write_meta_mesh_output(run, o.map, meta);
   tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
     if (o.triangulate)
       io::write_mesh_file(triangles, p, o.draco_bits);
