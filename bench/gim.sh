@@ -23,7 +23,7 @@ print(f"gim-remesh, 257x257, {os.cpu_count()} cores ({platform.machine()}). Time
 print("Default run (right-isosceles metric): map efficiency domain->surface, image efficiency on the unit square, flipped grid triangles, PSNR of the remesh.")
 print("Equilateral run (`--metric equilateral`): image efficiency on the regular octahedron |x|+|y|+|z|=1, as in the paper's Table 1.")
 print()
-print("`map`: the progressive meshes and coarse maps of every candidate network, then the refinement, for both map variants side by side (inverse-stretch weight 0.1 and 1; the better one-way map is kept, README \"Measures\"). The default run weights the stretch by curvature (`--curvature-weight 0.5`), the equilateral run does not.")
+print("`map`: the progressive meshes and coarse maps of every candidate network, then the refinement, for both map variants side by side (inverse-stretch weight 0.1 and 1; the better one-way map is kept, README \"Measures\"). Both runs weight the stretch by curvature (`--curvature-weight 0.5`, the default; the paper's map is plain symmetric stretch).")
 print(f"Commit {commit}.")
 print()
 print("| model | faces | partition | map | sample | total | peak MB | valid | map eff. | square eff. | flips | PSNR dB | spherical (sq. eff. / flips / PSNR) | equilateral: octa eff. / PSNR | paper (octa eff. / PSNR) |")

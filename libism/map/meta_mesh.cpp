@@ -1,11 +1,9 @@
-// Building a meta-mesh from a SurfaceMap, and writing it.
+// Building a meta-mesh from a SurfaceMap.
 #include "map/meta_mesh.hpp"
 
 #include "map/overlay.hpp"
 
 #include <algorithm>
-#include <cstdio>
-#include <fstream>
 #include <unordered_map>
 
 namespace ism {
@@ -116,45 +114,6 @@ std::optional<MetaMesh> meta_mesh(const SurfaceMap& map) {
 MetaMesh swapped(const MetaMesh& meta) {
   // Every record is relative to its own side: exchanging the sides is all.
   return MetaMesh{{meta.side[1], meta.side[0]}};
-}
-
-bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
-  std::ofstream out(path);
-  if (!out) return false;
-  char line[256];
-  out << "ism-meta-mesh 1\n";
-  for (int m = 0; m < 2; ++m) {
-    const MetaSide& side = meta.side[m];
-    out << "mesh " << m << ' ' << side.n_vertices() << ' ' << side.faces.size() << '\n';
-    for (std::size_t f = 0; f < side.faces.size(); ++f) {
-      const auto& t = side.faces[f];
-      const auto& l = side.lengths[f];
-      std::snprintf(line, sizeof line, "f %d %d %d %.17g %.17g %.17g\n", t[0], t[1], t[2], l[0],
-                    l[1], l[2]);
-      out << line;
-    }
-  }
-  for (int m = 0; m < 2; ++m)
-    for (std::size_t v = 0; v < meta.side[m].n_vertices(); ++v) {
-      const MetaLocation& loc = meta.side[m].location[v];
-      if (loc.vertex >= 0) {
-        if (m == 0) out << "on " << v << ' ' << loc.vertex << '\n';
-      } else if (loc.face >= 0) {
-        std::snprintf(line, sizeof line, "in %d %zu %d %.17g %.17g %.17g\n", m, v, loc.face,
-                      loc.bary[0], loc.bary[1], loc.bary[2]);
-        out << line;
-      }
-    }
-  const MetaSide& d = meta.side[0];
-  const MetaSide& s = meta.side[1];
-  for (std::size_t e = 0; e < d.edges.size(); ++e)
-    for (const MetaCrossing& c : d.crossings[e]) {
-      std::snprintf(line, sizeof line, "x %d %d %d %d %.17g %.17g\n", d.edges[e][0], d.edges[e][1],
-                    s.edges[c.edge][0], s.edges[c.edge][1], c.here, c.there);
-      out << line;
-    }
-  out.flush();
-  return bool(out);
 }
 
 }  // namespace ism

@@ -91,8 +91,11 @@ struct MetaMeshSize {
 };
 MetaMeshSize meta_mesh_size(const MetaMesh& meta);
 
-/// Writes a meta-mesh as text (format in the README, "Meta-mesh files").
-/// Returns false if the file cannot be written.
+/// Writes a meta-mesh as text (format in the README, "Meta-mesh files"),
+/// every number exactly. Returns false if the file cannot be written.
 bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path);
+/// Reads what write_meta_mesh wrote (validate() it before use). Throws
+/// io::FileError naming the file and line of the first malformed record.
+MetaMesh read_meta_mesh(const std::filesystem::path& path);
 
 }  // namespace ism

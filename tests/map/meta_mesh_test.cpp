@@ -2,6 +2,7 @@
 // it validates from both sides, its measures are the map's, and validate()
 // finds corruptions of either side.
 #include "domain/domain.hpp"
+#include "io/io.hpp"
 #include "map/map.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
@@ -142,24 +143,62 @@ TEST(MetaMesh, ValidateFindsCorruptionOfEitherSide) {
   EXPECT_TRUE(validate(bad).has_value());
 }
 
-TEST(MetaMesh, WritesEveryRecord) {
+TEST(MetaMesh, FileRoundTripIsExact) {
   OctahedralMap s(shapes::sphere(400));
   refine(s.map, {.max_final_sweeps = 1});
   const MetaMesh meta = *meta_mesh(s.map);
   const auto path = std::filesystem::temp_directory_path() / "ism_meta_mesh_test.meta";
   ASSERT_TRUE(write_meta_mesh(meta, path));
-  std::ifstream in(path);
-  std::string header, word;
-  std::getline(in, header);
-  EXPECT_EQ(header, "ism-meta-mesh 1");
-  std::map<std::string, std::size_t> count;
-  for (std::string line; std::getline(in, line);) ++count[line.substr(0, line.find(' '))];
-  const MetaMeshSize size = meta_mesh_size(meta);
-  EXPECT_EQ(count["mesh"], 2u);
-  EXPECT_EQ(count["f"], 8 + s.map.n_faces());
-  EXPECT_EQ(count["x"], size.crossings);
-  EXPECT_EQ(count["in"], size.vertices_inside);
-  EXPECT_EQ(count["on"], size.shared_vertices);
+  {
+    std::ifstream in(path);
+    std::string header;
+    std::getline(in, header);
+    EXPECT_EQ(header, "ism-meta-mesh 1");
+    std::map<std::string, std::size_t> count;
+    for (std::string line; std::getline(in, line);) ++count[line.substr(0, line.find(' '))];
+    const MetaMeshSize size = meta_mesh_size(meta);
+    EXPECT_EQ(count["mesh"], 2u);
+    EXPECT_EQ(count["f"], 8 + s.map.n_faces());
+    EXPECT_EQ(count["x"], size.crossings);
+    EXPECT_EQ(count["in"], size.vertices_inside);
+    EXPECT_EQ(count["on"], size.shared_vertices);
+  }
+  const MetaMesh back = read_meta_mesh(path);
+  EXPECT_EQ(validate(back), std::nullopt);
+  for (int m = 0; m < 2; ++m) {
+    const MetaSide &a = meta.side[m], &b = back.side[m];
+    EXPECT_EQ(a.faces, b.faces);
+    EXPECT_EQ(a.lengths, b.lengths);
+    EXPECT_EQ(a.edges, b.edges);
+    ASSERT_EQ(a.n_vertices(), b.n_vertices());
+    for (std::size_t v = 0; v < a.n_vertices(); ++v) {
+      EXPECT_EQ(a.location[v].vertex, b.location[v].vertex);
+      EXPECT_EQ(a.location[v].face, b.location[v].face);
+      EXPECT_EQ(a.location[v].bary, b.location[v].bary);
+    }
+    for (std::size_t e = 0; e < a.edges.size(); ++e) {
+      ASSERT_EQ(a.crossings[e].size(), b.crossings[e].size());
+      for (std::size_t i = 0; i < a.crossings[e].size(); ++i) {
+        EXPECT_EQ(a.crossings[e][i].edge, b.crossings[e][i].edge);
+        EXPECT_EQ(a.crossings[e][i].here, b.crossings[e][i].here);
+        EXPECT_EQ(a.crossings[e][i].there, b.crossings[e][i].there);
+      }
+    }
+  }
+  EXPECT_EQ(measures(back)->symmetric_efficiency, measures(meta)->symmetric_efficiency);
+
+  // A damaged file: one line naming the file and the line.
+  {
+    std::ofstream out(path, std::ios::app);
+    out << "x 0 1 2\n";
+  }
+  try {
+    read_meta_mesh(path);
+    ADD_FAILURE() << "read a damaged file";
+  } catch (const io::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad crossing"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
 }
 
 }  // namespace

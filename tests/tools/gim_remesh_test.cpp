@@ -80,6 +80,9 @@ struct Floor {
   const char* name;
   double psnr = 0, efficiency = 0;
   int flips = -1;
+  // The largest models run one variant of the map (the one they keep with
+  // the default two), which halves their time in CI.
+  const char* options = "";
 };
 
 void PrintTo(const Floor& floor, std::ostream* os) {
@@ -94,9 +97,10 @@ TEST_P(GimRemeshSharedModel, ValidWatertightAndAboveItsFloors) {
   const fs::path dir = scratch_dir("gim");
   const fs::path exr = dir / (std::string(m.name) + ".exr"),
                  report = dir / (std::string(m.name) + ".json");
-  const auto r = run_tool(
-      "gim-remesh", (ism::test::shared_models_dir() / (std::string(m.name) + ".obj")).string() +
-                        " -o " + exr.string() + " --size 129 -q --report " + report.string());
+  const auto r =
+      run_tool("gim-remesh",
+               (ism::test::shared_models_dir() / (std::string(m.name) + ".obj")).string() + " -o " +
+                   exr.string() + " --size 129 -q --report " + report.string() + " " + m.options);
   ASSERT_EQ(r.status, 0) << r.err;
   expect_watertight_image(exr, 129);
   const std::string json = slurp(report);
@@ -120,8 +124,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Floor{"gargoyle", 68.7, 0.70, 30}, Floor{"max_planck", 77.5, 0.88, 5},
                       Floor{"igea", 72.6, 0.90, 10}, Floor{"nefertiti", 71.7, 0.70, 30},
                       Floor{"fandisk", 73.5, 0.84, 5}, Floor{"sphere", 85.8, 0.88, 0},
-                      Floor{"cube", 72.4, 0.85, 5}, Floor{"bunny", 70.3, 0.75, 60},
-                      Floor{"dragon"}),
+                      Floor{"cube", 72.4, 0.85, 5},
+                      Floor{"bunny", 70.3, 0.75, 60, "--inverse-weight 0.1"},
+                      Floor{"dragon", 0, 0, -1, "--inverse-weight 0.1"}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST(GimRemesh, UnsuitableSurfacesAreRefusedWithoutOutput) {

@@ -1,0 +1,150 @@
+// Meta-mesh files: the text format of the README's "Meta-mesh files".
+#include "io/io.hpp"
+#include "map/meta_mesh.hpp"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+namespace ism {
+
+bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
+  std::ofstream out(path);
+  if (!out) return false;
+  char line[256];
+  out << "ism-meta-mesh 1\n";
+  for (int m = 0; m < 2; ++m) {
+    const MetaSide& side = meta.side[m];
+    out << "mesh " << m << ' ' << side.n_vertices() << ' ' << side.faces.size() << '\n';
+    for (std::size_t f = 0; f < side.faces.size(); ++f) {
+      const auto& t = side.faces[f];
+      const auto& l = side.lengths[f];
+      std::snprintf(line, sizeof line, "f %d %d %d %.17g %.17g %.17g\n", t[0], t[1], t[2], l[0],
+                    l[1], l[2]);
+      out << line;
+    }
+  }
+  for (int m = 0; m < 2; ++m)
+    for (std::size_t v = 0; v < meta.side[m].n_vertices(); ++v) {
+      const MetaLocation& loc = meta.side[m].location[v];
+      if (loc.vertex >= 0) {
+        if (m == 0) out << "on " << v << ' ' << loc.vertex << '\n';
+      } else if (loc.face >= 0) {
+        std::snprintf(line, sizeof line, "in %d %zu %d %.17g %.17g %.17g\n", m, v, loc.face,
+                      loc.bary[0], loc.bary[1], loc.bary[2]);
+        out << line;
+      }
+    }
+  const MetaSide& d = meta.side[0];
+  const MetaSide& s = meta.side[1];
+  for (std::size_t e = 0; e < d.edges.size(); ++e)
+    for (const MetaCrossing& c : d.crossings[e]) {
+      std::snprintf(line, sizeof line, "x %d %d %d %d %.17g %.17g\n", d.edges[e][0], d.edges[e][1],
+                    s.edges[c.edge][0], s.edges[c.edge][1], c.here, c.there);
+      out << line;
+    }
+  out.flush();
+  return bool(out);
+}
+
+namespace {
+
+std::uint64_t edge_key(int u, int v) {
+  return (std::uint64_t(std::uint32_t(std::min(u, v))) << 32) | std::uint32_t(std::max(u, v));
+}
+
+}  // namespace
+
+MetaMesh read_meta_mesh(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw io::FileError(path.string() + ": cannot be read");
+  int line_number = 0;
+  auto fail = [&](const std::string& why) {
+    throw io::FileError(path.string() + ":" + std::to_string(line_number) + ": " + why);
+  };
+  std::string line;
+  ++line_number;
+  if (!std::getline(in, line) || line != "ism-meta-mesh 1") fail("not an ism meta-mesh file");
+  MetaMesh meta;
+  int current = -1;
+  std::size_t faces_expected[2] = {0, 0};
+  std::vector<std::array<int, 4>> crossing_edges;  // a0 b0 a1 b1 per x line
+  std::vector<std::array<double, 2>> crossing_at;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream words(line);
+    std::string kind;
+    if (!(words >> kind)) continue;
+    if (kind == "mesh") {
+      std::size_t vertices, faces;
+      if (!(words >> current >> vertices >> faces) || current != (current & 1) ||
+          !meta.side[current].faces.empty() || vertices > (1u << 30) || faces > (1u << 30))
+        fail("bad mesh line");
+      meta.side[current].location.assign(vertices, {});
+      faces_expected[current] = faces;
+    } else if (kind == "f") {
+      Triangle t;
+      FaceLengths l;
+      if (current < 0 || !(words >> t[0] >> t[1] >> t[2] >> l[0] >> l[1] >> l[2])) fail("bad face");
+      for (int v : t)
+        if (v < 0 || std::size_t(v) >= meta.side[current].n_vertices()) fail("no such vertex");
+      meta.side[current].faces.push_back(t);
+      meta.side[current].lengths.push_back(l);
+    } else if (kind == "on") {
+      int v0, v1;
+      if (!(words >> v0 >> v1) || v0 < 0 || v1 < 0 ||
+          std::size_t(v0) >= meta.side[0].n_vertices() ||
+          std::size_t(v1) >= meta.side[1].n_vertices())
+        fail("bad vertex pair");
+      meta.side[0].location[v0].vertex = v1;
+      meta.side[1].location[v1].vertex = v0;
+    } else if (kind == "in") {
+      int m, v;
+      MetaLocation loc;
+      if (!(words >> m >> v >> loc.face >> loc.bary[0] >> loc.bary[1] >> loc.bary[2]) ||
+          m != (m & 1) || v < 0 || std::size_t(v) >= meta.side[m].n_vertices())
+        fail("bad location");
+      meta.side[m].location[v] = loc;
+    } else if (kind == "x") {
+      std::array<int, 4> e;
+      std::array<double, 2> s;
+      if (!(words >> e[0] >> e[1] >> e[2] >> e[3] >> s[0] >> s[1])) fail("bad crossing");
+      crossing_edges.push_back(e);
+      crossing_at.push_back(s);
+    } else {
+      fail("unknown record '" + kind + "'");
+    }
+  }
+  line_number = 0;
+  for (int m = 0; m < 2; ++m) {
+    MetaSide& side = meta.side[m];
+    if (side.faces.size() != faces_expected[m]) fail("face count differs from its mesh line");
+    if (!build_edges(side)) fail("mesh " + std::to_string(m) + " is not a closed manifold");
+    side.crossings.assign(side.edges.size(), {});
+  }
+  std::array<std::unordered_map<std::uint64_t, int>, 2> edge_id;
+  for (int m = 0; m < 2; ++m)
+    for (std::size_t e = 0; e < meta.side[m].edges.size(); ++e)
+      edge_id[m][edge_key(meta.side[m].edges[e][0], meta.side[m].edges[e][1])] = int(e);
+  for (std::size_t i = 0; i < crossing_edges.size(); ++i) {
+    const auto& e = crossing_edges[i];
+    const auto a = edge_id[0].find(edge_key(e[0], e[1]));
+    const auto b = edge_id[1].find(edge_key(e[2], e[3]));
+    if (a == edge_id[0].end() || b == edge_id[1].end()) fail("a crossing of no edge");
+    // Parameters are stored from the first vertex named.
+    const double s0 = e[0] < e[1] ? crossing_at[i][0] : 1 - crossing_at[i][0];
+    const double s1 = e[2] < e[3] ? crossing_at[i][1] : 1 - crossing_at[i][1];
+    meta.side[0].crossings[a->second].push_back({b->second, s0, s1});
+    meta.side[1].crossings[b->second].push_back({a->second, s1, s0});
+  }
+  for (MetaSide& side : meta.side)
+    for (auto& list : side.crossings)
+      std::sort(list.begin(), list.end(),
+                [](const MetaCrossing& a, const MetaCrossing& b) { return a.here < b.here; });
+  return meta;
+}
+
+}  // namespace ism
