@@ -3,6 +3,7 @@
 // domain, its local operations, validation, measures and queries.
 #include "map/domain_geometry.hpp"
 #include "map/meta_mesh.hpp"
+#include "map/meta_mesh_sampler.hpp"
 #include "map/overlay.hpp"
 #include "map/sampler.hpp"
 #include "map/surface_map.hpp"

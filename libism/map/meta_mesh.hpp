@@ -77,6 +77,23 @@ bool build_edges(MetaSide& side);
 /// the same cells, each once (the map is a bijection). The first violation.
 std::optional<std::string> validate(const MetaMesh& meta);
 
+/// A piece of the overlay: a convex cell lying in one face of each mesh,
+/// its corners (meta-vertex ids, counter-clockwise, smallest first) laid
+/// out in both faces' canonical layouts (meta_face_layout).
+struct MetaPiece {
+  std::vector<int> nodes;
+  std::array<int, 2> face;
+  std::array<std::vector<Vec2>, 2> corner;
+  std::array<double, 2> area;
+};
+/// The pieces of a valid meta-mesh, ordered by their corners; nothing if it
+/// does not validate.
+std::optional<std::vector<MetaPiece>> meta_pieces(const MetaMesh& meta);
+/// The layout of a face with these lengths in which pieces and barycentric
+/// coordinates are given: corner 0 at the origin, corner 1 on +x,
+/// counter-clockwise.
+std::array<Vec2, 3> meta_face_layout(const FaceLengths& lengths);
+
 /// Stretch measures over the pieces, side[0] read as the domain; nothing if
 /// the meta-mesh does not validate. For a meta-mesh of a SurfaceMap they
 /// agree with SurfaceMap::measures(), which works on whole M² faces.

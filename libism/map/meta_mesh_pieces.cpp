@@ -27,11 +27,6 @@ std::string face_name(int m, int f) {
   return std::string(mesh_name(m)) + " face " + std::to_string(f);
 }
 
-std::array<Vec2, 3> face_layout(const FaceLengths& l) {
-  // l[k] is edge k -> k+1; triangle_layout wants the edge opposite each corner.
-  return triangle_layout({l[1], l[2], l[0]});
-}
-
 /// A piece: the ids of the meta-vertices around it (counter-clockwise,
 /// smallest first), where it lies and its corners in that face's layout.
 struct Piece {
@@ -151,7 +146,7 @@ std::optional<std::string> route_edges(const MetaMesh& meta, int m, const NodeId
     const auto [a, b] = other.edges[g];
     const auto& list = other.crossings[g];
     const MetaLocation &la = other.location[a], &lb = other.location[b];
-    const std::string name = edge_name(other, 1 - m, int(g));
+    auto name = [&] { return edge_name(other, 1 - m, int(g)); };
     int face = la.face;
     if (face < 0) {
       // Leaving a vertex of this side: through the face opposite the first
@@ -166,24 +161,24 @@ std::optional<std::string> route_edges(const MetaMesh& meta, int m, const NodeId
       } else {
         // From vertex to vertex with no crossing: it lies on an edge.
         if (!has_edge.count(edge_key(la.vertex, lb.vertex)))
-          return name + ": joins two vertices of an edge the other mesh lacks";
+          return name() + ": joins two vertices of an edge the other mesh lacks";
         continue;
       }
-      if (face < 0) return name + ": leaves its vertex through no face";
+      if (face < 0) return name() + ": leaves its vertex through no face";
     }
     int previous = ids.vertex(meta, 1 - m, a);
     for (std::size_t i = 0; i < list.size(); ++i) {
       const int e = list[i].edge;
       const auto& fe = side.face_edges[face];
       if (fe[0] != e && fe[1] != e && fe[2] != e)
-        return name + ": crosses an edge of a face it is not in";
+        return name() + ": crosses an edge of a face it is not in";
       const int node = crossing_id[g][i];
       cells[face].segments.push_back({previous, node});
       previous = node;
       face = edge_faces[e][0] == face ? edge_faces[e][1] : edge_faces[e][0];
     }
     if (lb.face >= 0 ? lb.face != face : corner_of(face, lb.vertex) < 0)
-      return name + ": does not end in the face its last crossing leads to";
+      return name() + ": does not end in the face its last crossing leads to";
     cells[face].segments.push_back({previous, ids.vertex(meta, 1 - m, b)});
   }
   return std::nullopt;
@@ -195,11 +190,11 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
   auto& nodes = cell.nodes;
   std::sort(nodes.begin(), nodes.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
-  const std::string name = face_name(m, f);
+  auto name = [&] { return face_name(m, f); };
   for (std::size_t i = 1; i < nodes.size(); ++i)
     if (nodes[i].first == nodes[i - 1].first) {
       if ((nodes[i].second - nodes[i - 1].second).norm() > 1e-9 * std::sqrt(face_area))
-        return name + ": a meta-vertex at two places";
+        return name() + ": a meta-vertex at two places";
       nodes.erase(nodes.begin() + i--);
     }
   auto local = [&](int id) {
@@ -211,8 +206,8 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
   std::vector<std::vector<std::pair<double, int>>> around(nodes.size());
   for (const auto& [p, q] : cell.segments) {
     const int u = local(p), v = local(q);
-    if (u < 0 || v < 0) return name + ": an edge of the other mesh ends at no meta-vertex in it";
-    if (u == v) return name + ": an edge of the other mesh has no length in it";
+    if (u < 0 || v < 0) return name() + ": an edge of the other mesh ends at no meta-vertex in it";
+    if (u == v) return name() + ": an edge of the other mesh has no length in it";
     const Vec2 d = nodes[v].second - nodes[u].second;
     around[u].push_back({std::atan2(d.y(), d.x()), v});
     around[v].push_back({std::atan2(-d.y(), -d.x()), u});
@@ -221,8 +216,8 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
     std::sort(a.begin(), a.end());
     for (std::size_t i = 1; i < a.size(); ++i)
       if (a[i].second == a[i - 1].second)
-        return name + ": two segments join the same meta-vertices";
-    if (a.size() < 2) return name + ": a meta-vertex on fewer than two of its edges";
+        return name() + ": two segments join the same meta-vertices";
+    if (a.size() < 2) return name() + ": a meta-vertex on fewer than two of its edges";
   }
   // Each directed segment bounds the cell on its left; the next one turns
   // as far right as possible (the first neighbour clockwise of the way back).
@@ -244,9 +239,9 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
         while (around[v][back].second != u) ++back;
         j = (back + int(around[v].size()) - 1) % int(around[v].size());
         u = v;
-        if (piece.nodes.size() > nodes.size()) return name + ": its arrangement is not planar";
+        if (piece.nodes.size() > nodes.size()) return name() + ": its arrangement is not planar";
       }
-      if (u != int(u0)) return name + ": its arrangement is not planar";
+      if (u != int(u0)) return name() + ": its arrangement is not planar";
       const std::size_t n = piece.position.size();
       for (std::size_t i = 0; i < n; ++i) {
         const Vec2 &p = piece.position[i], &q = piece.position[(i + 1) % n];
@@ -256,7 +251,7 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
         ++outer;
         continue;
       }
-      if (!(piece.area > 0)) return name + ": a piece with no area";
+      if (!(piece.area > 0)) return name() + ": a piece with no area";
       total += piece.area;
       const auto first = std::min_element(piece.nodes.begin(), piece.nodes.end());
       const auto shift = first - piece.nodes.begin();
@@ -264,9 +259,10 @@ std::optional<std::string> trace_cells(Arrangement& cell, int m, int f, double f
       std::rotate(piece.position.begin(), piece.position.begin() + shift, piece.position.end());
       pieces.push_back(std::move(piece));
     }
-  if (outer != 1) return name + ": the other mesh's edges in it are not connected to its boundary";
+  if (outer != 1)
+    return name() + ": the other mesh's edges in it are not connected to its boundary";
   if (std::abs(total - face_area) > 1e-9 * face_area)
-    return name + ": its pieces cover " + std::to_string(total / face_area) + " of it";
+    return name() + ": its pieces cover " + std::to_string(total / face_area) + " of it";
   return std::nullopt;
 }
 
@@ -311,7 +307,7 @@ Cut cut(const MetaMesh& meta) {
     std::vector<Arrangement> cells(side.faces.size());
     std::vector<std::array<Vec2, 3>> layout(side.faces.size());
     for (std::size_t f = 0; f < side.faces.size(); ++f) {
-      layout[f] = face_layout(side.lengths[f]);
+      layout[f] = meta_face_layout(side.lengths[f]);
       auto& cell = cells[f];
       for (int k = 0; k < 3; ++k) {
         // Corner k, then the crossings along edge k -> k+1, as segments.
@@ -368,27 +364,48 @@ Cut cut(const MetaMesh& meta) {
 
 }  // namespace
 
+std::array<Vec2, 3> meta_face_layout(const FaceLengths& l) {
+  // l[k] is edge k -> k+1; triangle_layout wants the edge opposite each corner.
+  return triangle_layout({l[1], l[2], l[0]});
+}
+
+std::optional<std::vector<MetaPiece>> meta_pieces(const MetaMesh& meta) {
+  Cut c = cut(meta);
+  if (c.error) return std::nullopt;
+  std::vector<MetaPiece> pieces(c.pieces[0].size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    MetaPiece& p = pieces[i];
+    p.nodes = std::move(c.pieces[0][i].nodes);
+    for (int m = 0; m < 2; ++m) {
+      p.face[m] = c.pieces[m][i].face;
+      p.corner[m] = std::move(c.pieces[m][i].position);
+      p.area[m] = c.pieces[m][i].area;
+    }
+  }
+  return pieces;
+}
+
 std::optional<std::string> validate(const MetaMesh& meta) {
   return cut(meta).error;
 }
 
 std::optional<MapMeasures> measures(const MetaMesh& meta) {
-  const Cut c = cut(meta);
-  if (c.error) return std::nullopt;
+  const auto all = meta_pieces(meta);
+  if (!all) return std::nullopt;
   std::vector<StretchPiece> pieces;
-  pieces.reserve(c.pieces[0].size());
+  pieces.reserve(all->size());
   auto lengths = [](const Vec2& a, const Vec2& b, const Vec2& x, double scale) {
     return TriangleLengths{scale * (x - b).norm(), scale * (a - x).norm(), scale * (b - a).norm()};
   };
-  for (std::size_t i = 0; i < c.pieces[0].size(); ++i) {
+  for (const MetaPiece& piece : *all) {
     // One affine map per piece: the fan triangle of largest area stands for
     // it, scaled to the piece's area.
-    const auto& p = c.pieces[0][i].position;
-    const auto& q = c.pieces[1][i].position;
+    const auto& p = piece.corner[0];
+    const auto& q = piece.corner[1];
     std::size_t best = 1;
     for (std::size_t j = 1; j + 1 < p.size(); ++j)
       if (orient(p[0], p[j], p[j + 1]) > orient(p[0], p[best], p[best + 1])) best = j;
-    const double scale = std::sqrt(2 * c.pieces[0][i].area / orient(p[0], p[best], p[best + 1]));
+    const double scale = std::sqrt(2 * piece.area[0] / orient(p[0], p[best], p[best + 1]));
     pieces.push_back(
         {lengths(p[0], p[best], p[best + 1], scale), lengths(q[0], q[best], q[best + 1], scale)});
   }

@@ -201,5 +201,62 @@ TEST(MetaMesh, FileRoundTripIsExact) {
   std::filesystem::remove(path);
 }
 
+TEST(MetaMeshSampler, AgreesWithTheMapSamplerBothWays) {
+  OctahedralMap s(shapes::blob(2000, 7, 0.4));
+  refine(s.map, {.max_final_sweeps = 2});
+  const MetaMesh meta = *meta_mesh(s.map);
+  const MetaMeshSampler symmetric(meta);
+  const MapSampler sampler(s.map);
+  const auto& x = s.map.positions();
+  const auto& octahedron = s.octahedron;
+  auto surface = [&](int face, const Eigen::Vector3d& b) {
+    const Triangle& t = s.map.faces()[face];
+    return Vec3(b[0] * x[t[0]] + b[1] * x[t[1]] + b[2] * x[t[2]]);
+  };
+  auto domain = [&](int face, const Eigen::Vector3d& b) {
+    const Triangle& t = octahedron.triangles[face];
+    const auto& p = octahedron.positions;
+    return Vec3(b[0] * p[t[0]] + b[1] * p[t[1]] + b[2] * p[t[2]]);
+  };
+  std::uint64_t state = 99;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53);
+  };
+  double worst_forward = 0, worst_back = 0, worst_round_trip = 0;
+  for (int i = 0; i < 20000; ++i) {
+    double a = uniform(), b = uniform();
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Eigen::Vector3d bary(1 - a - b, a, b);
+    // M¹ -> M².
+    const int f = i % 8;
+    const auto expected = sampler.surface_point(f, bary);
+    const auto got = symmetric.map_point(0, f, bary);
+    ASSERT_TRUE(expected && got);
+    worst_forward =
+        std::max(worst_forward, (surface(got->face, got->bary) - expected->position).norm());
+    const auto back = symmetric.map_point(1, got->face, got->bary);
+    ASSERT_TRUE(back);
+    worst_round_trip =
+        std::max(worst_round_trip, (domain(back->face, back->bary) - domain(f, bary)).norm());
+    // M² -> M¹.
+    const int t = int((i * 7919) % s.map.n_faces());
+    const auto expected_back = sampler.domain_point(t, bary);
+    const auto got_back = symmetric.map_point(1, t, bary);
+    ASSERT_TRUE(expected_back && got_back);
+    worst_back = std::max(worst_back, (domain(got_back->face, got_back->bary) -
+                                       domain(expected_back->face, expected_back->bary))
+                                          .norm());
+  }
+  std::printf("largest differences: M¹ -> M² %.3g, M² -> M¹ %.3g, round trip %.3g\n", worst_forward,
+              worst_back, worst_round_trip);
+  EXPECT_LT(worst_forward, 1e-9);
+  EXPECT_LT(worst_back, 1e-9);
+  EXPECT_LT(worst_round_trip, 1e-9);
+  // Outside a face, or no such face: nothing.
+  EXPECT_FALSE(symmetric.map_point(0, 0, Eigen::Vector3d(1.5, -0.25, -0.25)));
+  EXPECT_FALSE(symmetric.map_point(0, 8, Eigen::Vector3d(1, 0, 0)));
+}
+
 }  // namespace
 }  // namespace ism

@@ -1,0 +1,93 @@
+#include "map/meta_mesh_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ism {
+
+MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
+  auto pieces = meta_pieces(meta);
+  if (!pieces) throw std::invalid_argument("MetaMeshSampler: the meta-mesh does not validate");
+  pieces_ = std::move(*pieces);
+  for (int m = 0; m < 2; ++m) {
+    const MetaSide& side = meta.side[m];
+    const std::size_t nf = side.faces.size();
+    layout_[m].resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) layout_[m][f] = meta_face_layout(side.lengths[f]);
+    std::vector<std::vector<int>> in_face(nf);
+    for (std::size_t i = 0; i < pieces_.size(); ++i) in_face[pieces_[i].face[m]].push_back(int(i));
+    grid_[m].resize(nf);
+    for (std::size_t f = 0; f < nf; ++f) {
+      Grid& g = grid_[m][f];
+      const auto& l = layout_[m][f];
+      g.lo = l[0].cwiseMin(l[1]).cwiseMin(l[2]);
+      const Vec2 hi = l[0].cwiseMax(l[1]).cwiseMax(l[2]);
+      // About one piece per cell.
+      g.n = std::max(1, int(std::ceil(std::sqrt(double(in_face[f].size())))));
+      g.cell = std::max((hi - g.lo).maxCoeff() / g.n, 1e-300);
+      auto cell_of = [&](const Vec2& p) {
+        return Eigen::Vector2i(std::clamp(int((p.x() - g.lo.x()) / g.cell), 0, g.n - 1),
+                               std::clamp(int((p.y() - g.lo.y()) / g.cell), 0, g.n - 1));
+      };
+      std::vector<std::vector<int>> cells(std::size_t(g.n) * g.n);
+      for (int i : in_face[f]) {
+        Vec2 a = pieces_[i].corner[m][0], b = a;
+        for (const Vec2& p : pieces_[i].corner[m]) a = a.cwiseMin(p), b = b.cwiseMax(p);
+        const Eigen::Vector2i c0 = cell_of(a), c1 = cell_of(b);
+        for (int y = c0.y(); y <= c1.y(); ++y)
+          for (int x = c0.x(); x <= c1.x(); ++x) cells[std::size_t(y) * g.n + x].push_back(i);
+      }
+      g.start.assign(1, 0);
+      for (const auto& c : cells) {
+        g.items.insert(g.items.end(), c.begin(), c.end());
+        g.start.push_back(int(g.items.size()));
+      }
+    }
+  }
+}
+
+std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
+                                                    const Eigen::Vector3d& bary) const {
+  if (m < 0 || m > 1 || face < 0 || std::size_t(face) >= layout_[m].size()) return std::nullopt;
+  const auto& l = layout_[m][face];
+  const Vec2 p = bary[0] * l[0] + bary[1] * l[1] + bary[2] * l[2];
+  const Grid& g = grid_[m][face];
+  const int x = std::clamp(int(std::floor((p.x() - g.lo.x()) / g.cell)), 0, g.n - 1);
+  const int y = std::clamp(int(std::floor((p.y() - g.lo.y()) / g.cell)), 0, g.n - 1);
+  const std::size_t c = std::size_t(y) * g.n + x;
+  // The piece p is deepest inside (points on a shared side belong to either).
+  int best = -1;
+  double depth = -HUGE_VAL;
+  for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
+    const auto& q = pieces_[g.items[k]].corner[m];
+    double d = HUGE_VAL;
+    for (std::size_t i = 0; i < q.size(); ++i) {
+      const Vec2 &a = q[i], &b = q[(i + 1) % q.size()];
+      d = std::min(d, orient(a, b, p) / std::max((b - a).norm(), 1e-300));
+    }
+    if (d > depth) depth = d, best = g.items[k];
+  }
+  const double scale = std::sqrt(std::abs(orient(l[0], l[1], l[2])));
+  if (best < 0 || depth < -1e-9 * scale) return std::nullopt;
+  // The fan triangle of the piece that holds p, its barycentric coordinates
+  // carried to the other face.
+  const MetaPiece& piece = pieces_[best];
+  const auto& q = piece.corner[m];
+  Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
+  std::size_t fan = 1;
+  for (std::size_t j = 1; j + 1 < q.size(); ++j) {
+    if (!(orient(q[0], q[j], q[j + 1]) > 0)) continue;
+    const Eigen::Vector3d b = barycentric(p, q[0], q[j], q[j + 1]);
+    if (b.minCoeff() > in.minCoeff()) in = b, fan = j;
+  }
+  const auto& r = piece.corner[1 - m];
+  const Vec2 image = in[0] * r[0] + in[1] * r[fan] + in[2] * r[fan + 1];
+  const int other = piece.face[1 - m];
+  const auto& lo = layout_[1 - m][other];
+  Eigen::Vector3d out = barycentric(image, lo[0], lo[1], lo[2]).cwiseMax(0.0);
+  out /= out.sum();
+  return MetaPoint{other, out};
+}
+
+}  // namespace ism

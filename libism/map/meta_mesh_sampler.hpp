@@ -1,0 +1,44 @@
+#pragma once
+// Queries on a meta-mesh, the same both ways: the point of one mesh for a
+// point of the other, through the affine map of the piece that holds it.
+// What MapSampler does for a SurfaceMap, for the symmetric form (and for a
+// map read back from a meta-mesh file).
+#include "map/meta_mesh.hpp"
+
+#include <optional>
+
+namespace ism {
+
+/// A point of one side of a meta-mesh: a face and barycentric coordinates
+/// with respect to its corners.
+struct MetaPoint {
+  int face = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+class MetaMeshSampler {
+ public:
+  /// Indexes the pieces of every face of both sides. Throws
+  /// std::invalid_argument if the meta-mesh does not validate.
+  explicit MetaMeshSampler(const MetaMesh& meta);
+
+  /// The point of side 1 - m that the point (face, bary) of side m maps to.
+  /// Nothing for a face that does not exist or a point outside its face
+  /// (beyond rounding).
+  std::optional<MetaPoint> map_point(int m, int face, const Eigen::Vector3d& bary) const;
+
+ private:
+  // The pieces of one face in a uniform grid over its layout, as
+  // compressed rows: the pieces of cell c are items[start[c] .. start[c+1]).
+  struct Grid {
+    Vec2 lo = Vec2::Zero();
+    double cell = 1;
+    int n = 1;
+    std::vector<int> start, items;
+  };
+  std::vector<MetaPiece> pieces_;
+  std::array<std::vector<std::array<Vec2, 3>>, 2> layout_;
+  std::array<std::vector<Grid>, 2> grid_;
+};
+
+}  // namespace ism
