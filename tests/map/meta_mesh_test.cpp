@@ -4,6 +4,7 @@
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
+#include "octahedral_map_fixture.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
@@ -20,18 +21,7 @@
 namespace ism {
 namespace {
 
-struct OctahedralMap {
-  TriangleMesh octahedron = domain::octahedron();
-  DomainGeometry geometry{octahedron,
-                          octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
-  PathNetwork network;
-  ProgressiveMesh pm;
-  SurfaceMap map;
-  explicit OctahedralMap(const TriangleMesh& surface)
-      : network(trace_octahedral_network(surface)),
-        pm(simplify_constrained(network, octahedron)),
-        map(geometry, pm) {}
-};
+using test::OctahedralMap;
 
 /// The meta-mesh of `map` validates from both sides and measures as the map.
 void expect_same_overlay(const SurfaceMap& map) {

@@ -5,6 +5,7 @@
 #include "refine/disc_relaxation.hpp"
 #include "domain/domain.hpp"
 #include "map/map.hpp"
+#include "octahedral_map_fixture.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
@@ -18,14 +19,9 @@
 namespace ism {
 namespace {
 
-struct SphereMap {
-  TriangleMesh octahedron = domain::octahedron();
-  DomainGeometry geometry{octahedron,
-                          octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
-  ProgressiveMesh pm{
-      simplify_constrained(trace_octahedral_network(shapes::sphere(2000)), octahedron)};
-  SurfaceMap map{geometry, pm};
-  explicit SphereMap(std::size_t vertices) {
+// The octahedral map of a 2000-face sphere, refined to `vertices`.
+struct SphereMap : test::OctahedralMap {
+  explicit SphereMap(std::size_t vertices) : OctahedralMap(shapes::sphere(2000)) {
     RefineOptions options;
     options.stop_at_vertices = vertices;
     refine(map, options);
