@@ -68,10 +68,11 @@ int main(int argc, char** argv) {
   const auto t8 = Clock::now();
   // The symmetric meta-mesh: built, validated from both sides, measured.
   const auto meta = ism::meta_mesh(map);
-  const bool meta_valid = meta && !ism::validate(*meta);
-  const auto meta_measures = meta ? ism::measures(*meta) : std::nullopt;
+  const auto meta_pieces = meta ? ism::meta_pieces(*meta) : std::nullopt;
+  const bool meta_valid = meta_pieces.has_value();
+  const auto meta_measures = meta_valid ? std::optional(ism::measures(*meta_pieces)) : std::nullopt;
   const auto t9 = Clock::now();
-  const std::size_t pieces = meta_valid ? ism::meta_mesh_size(*meta).pieces : 0;
+  const std::size_t pieces = meta_valid ? meta_pieces->size() : 0;
   std::printf(
       "| %s | %zu | %zu | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.0f | %s | %.3f | %.3f | %.3f "
       "| %.1f%% | %zu / %zu | %.2f | %.2f%s | %zu | %.2f | %s |\n",

@@ -12,6 +12,7 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -98,6 +99,8 @@ std::array<Vec2, 3> meta_face_layout(const FaceLengths& lengths);
 /// the meta-mesh does not validate. For a meta-mesh of a SurfaceMap they
 /// agree with SurfaceMap::measures(), which works on whole M² faces.
 std::optional<MapMeasures> measures(const MetaMesh& meta);
+/// The same from pieces already cut (meta_pieces), side 0 the domain.
+MapMeasures measures(std::span<const MetaPiece> pieces);
 
 /// Counts of a meta-mesh's elements.
 struct MetaMeshSize {
@@ -107,6 +110,8 @@ struct MetaMeshSize {
   std::size_t pieces = 0;
 };
 MetaMeshSize meta_mesh_size(const MetaMesh& meta);
+/// The same with the pieces already counted (meta_pieces): no second cut.
+MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::size_t pieces);
 
 /// Writes a meta-mesh as text (format in the README, "Meta-mesh files"),
 /// every number exactly. Returns false if the file cannot be written.

@@ -390,14 +390,18 @@ std::optional<std::string> validate(const MetaMesh& meta) {
 }
 
 std::optional<MapMeasures> measures(const MetaMesh& meta) {
-  const auto all = meta_pieces(meta);
-  if (!all) return std::nullopt;
+  const auto pieces = meta_pieces(meta);
+  if (!pieces) return std::nullopt;
+  return measures(*pieces);
+}
+
+MapMeasures measures(std::span<const MetaPiece> all) {
   std::vector<StretchPiece> pieces;
-  pieces.reserve(all->size());
+  pieces.reserve(all.size());
   auto lengths = [](const Vec2& a, const Vec2& b, const Vec2& x, double scale) {
     return TriangleLengths{scale * (x - b).norm(), scale * (a - x).norm(), scale * (b - a).norm()};
   };
-  for (const MetaPiece& piece : *all) {
+  for (const MetaPiece& piece : all) {
     // One affine map per piece: the fan triangle of largest area stands for
     // it, scaled to the piece's area.
     const auto& p = piece.corner[0];
@@ -414,12 +418,16 @@ std::optional<MapMeasures> measures(const MetaMesh& meta) {
 }
 
 MetaMeshSize meta_mesh_size(const MetaMesh& meta) {
+  return meta_mesh_size(meta, cut(meta).pieces[0].size());
+}
+
+MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::size_t pieces) {
   MetaMeshSize size;
+  size.pieces = pieces;
   for (const auto& list : meta.side[0].crossings) size.crossings += list.size();
   for (const MetaSide& side : meta.side)
     for (const MetaLocation& loc : side.location) size.vertices_inside += loc.face >= 0;
   for (const MetaLocation& loc : meta.side[0].location) size.shared_vertices += loc.vertex >= 0;
-  size.pieces = cut(meta).pieces[0].size();
   return size;
 }
 

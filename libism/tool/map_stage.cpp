@@ -129,8 +129,9 @@ MetaMesh validate_map(Run& run, const SurfaceMap& map) {
   // The same map from both sides, independently of how SurfaceMap stores it.
   std::optional<MetaMesh> meta = meta_mesh(map);
   if (!meta) throw Failure(invalid + "it has no meta-mesh");
-  if (const auto problem = validate(*meta)) throw Failure(invalid + "meta-mesh: " + *problem);
-  const MetaMeshSize size = meta_mesh_size(*meta);
+  const auto pieces = meta_pieces(*meta);
+  if (!pieces) throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"));
+  const MetaMeshSize size = meta_mesh_size(*meta, pieces->size());
   Json& j = run.report()["meta_mesh"];
   j["valid"] = true;
   j["pieces"] = size.pieces;
