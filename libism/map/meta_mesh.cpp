@@ -17,8 +17,7 @@ bool build_edges(MetaSide& side) {
     for (int k = 0; k < 3; ++k) {
       const int u = side.faces[f][k], v = side.faces[f][(k + 1) % 3];
       const int lo = std::min(u, v), hi = std::max(u, v);
-      const std::uint64_t key = (std::uint64_t(std::uint32_t(lo)) << 32) | std::uint32_t(hi);
-      auto [it, added] = id.try_emplace(key, int(edges.size()));
+      auto [it, added] = id.try_emplace(undirected_edge_key(u, v), int(edges.size()));
       if (added) {
         edges.push_back({lo, hi});
         uses.push_back({0, 0});

@@ -9,7 +9,9 @@
 // leaves the library (write_meta_mesh).
 #include "map/surface_map.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -63,6 +65,11 @@ std::optional<MetaMesh> meta_mesh(const SurfaceMap& map);
 
 /// The same meta-mesh with the two sides exchanged.
 MetaMesh swapped(const MetaMesh& meta);
+
+/// One number for the undirected edge {u, v} (for looking edges up).
+inline std::uint64_t undirected_edge_key(int u, int v) {
+  return (std::uint64_t(std::uint32_t(std::min(u, v))) << 32) | std::uint32_t(std::max(u, v));
+}
 
 /// Fills edges and face_edges of a side from its faces; false (nothing
 /// filled) if two faces share an edge the same way or an edge has no twin.

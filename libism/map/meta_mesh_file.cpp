@@ -50,14 +50,6 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
   return bool(out);
 }
 
-namespace {
-
-std::uint64_t edge_key(int u, int v) {
-  return (std::uint64_t(std::uint32_t(std::min(u, v))) << 32) | std::uint32_t(std::max(u, v));
-}
-
-}  // namespace
-
 MetaMesh read_meta_mesh(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw io::FileError(path.string() + ": cannot be read");
@@ -128,11 +120,11 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
   std::array<std::unordered_map<std::uint64_t, int>, 2> edge_id;
   for (int m = 0; m < 2; ++m)
     for (std::size_t e = 0; e < meta.side[m].edges.size(); ++e)
-      edge_id[m][edge_key(meta.side[m].edges[e][0], meta.side[m].edges[e][1])] = int(e);
+      edge_id[m][undirected_edge_key(meta.side[m].edges[e][0], meta.side[m].edges[e][1])] = int(e);
   for (std::size_t i = 0; i < crossing_edges.size(); ++i) {
     const auto& e = crossing_edges[i];
-    const auto a = edge_id[0].find(edge_key(e[0], e[1]));
-    const auto b = edge_id[1].find(edge_key(e[2], e[3]));
+    const auto a = edge_id[0].find(undirected_edge_key(e[0], e[1]));
+    const auto b = edge_id[1].find(undirected_edge_key(e[2], e[3]));
     if (a == edge_id[0].end() || b == edge_id[1].end()) fail("a crossing of no edge");
     // Parameters are stored from the first vertex named.
     const double s0 = e[0] < e[1] ? crossing_at[i][0] : 1 - crossing_at[i][0];

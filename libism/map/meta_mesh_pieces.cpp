@@ -132,11 +132,8 @@ std::optional<std::string> route_edges(const MetaMesh& meta, int m, const NodeId
       auto& ef = edge_faces[side.face_edges[f][k]];
       ef[ef[0] < 0 ? 0 : 1] = int(f);
     }
-  auto edge_key = [](int u, int v) {
-    return (std::uint64_t(std::uint32_t(std::min(u, v))) << 32) | std::uint32_t(std::max(u, v));
-  };
   std::unordered_set<std::uint64_t> has_edge;
-  for (const auto& [u, v] : side.edges) has_edge.insert(edge_key(u, v));
+  for (const auto& [u, v] : side.edges) has_edge.insert(undirected_edge_key(u, v));
   auto corner_of = [&](int f, int v) {
     for (int k = 0; k < 3; ++k)
       if (side.faces[f][k] == v) return k;
@@ -160,7 +157,7 @@ std::optional<std::string> route_edges(const MetaMesh& meta, int m, const NodeId
         face = corner_of(lb.face, la.vertex) >= 0 ? lb.face : -1;
       } else {
         // From vertex to vertex with no crossing: it lies on an edge.
-        if (!has_edge.count(edge_key(la.vertex, lb.vertex)))
+        if (!has_edge.count(undirected_edge_key(la.vertex, lb.vertex)))
           return name() + ": joins two vertices of an edge the other mesh lacks";
         continue;
       }
