@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <compare>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -28,12 +29,19 @@ struct MetaLocation {
   Eigen::Vector3d bary = Eigen::Vector3d::Zero();
 };
 
-/// A crossing of an edge with an edge of the other mesh: `here` is the
-/// parameter along this edge (0 at its first vertex, 1 at its second),
-/// `there` the parameter along the other edge, measured the same way.
+/// A point where an edge's image on the other mesh breaks: `here` is the
+/// parameter along this edge (0 at its first vertex, 1 at its second). A
+/// crossing with edge `edge` (>= 0) of the other mesh at parameter `there`
+/// along it (measured the same way), or a kink (`edge` == -1, paper §5.1:
+/// the image bends inside face `face` of the other mesh, at barycentric
+/// coordinates `bary`). Between two consecutive points the image is straight
+/// in the face of the other mesh that holds it.
 struct MetaCrossing {
   int edge;
   double here, there;
+  int face = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+  bool is_kink() const { return edge < 0; }
 };
 
 /// One mesh of a meta-mesh.
@@ -49,6 +57,9 @@ struct MetaSide {
   std::vector<MetaLocation> location;
   /// Per edge, ordered by `here`.
   std::vector<std::vector<MetaCrossing>> crossings;
+  /// Per vertex, for a side that is an embedded surface (empty for an
+  /// abstract domain): the lengths of new faces are taken from them.
+  std::vector<Vec3> positions;
 
   std::size_t n_vertices() const { return location.size(); }
 };
@@ -85,11 +96,22 @@ bool build_edges(MetaSide& side);
 /// the same cells, each once (the map is a bijection). The first violation.
 std::optional<std::string> validate(const MetaMesh& meta);
 
-/// A piece of the overlay: a convex cell lying in one face of each mesh,
-/// its corners (meta-vertex ids, counter-clockwise, smallest first) laid
-/// out in both faces' canonical layouts (meta_face_layout).
+/// Identity of a vertex of the overlay (a meta-vertex), the same from both
+/// sides: a vertex (kind 0: side a, vertex b; a vertex of one mesh on a
+/// vertex of the other is side 0's), a crossing (kind 1: side 0 edge a,
+/// side 1 edge b, the c-th crossing of the two along a), or a kink (kind 2:
+/// side a, edge b, the c-th kink of that edge).
+struct NodeKey {
+  int kind = 0, a = 0, b = 0, c = 0;
+  auto operator<=>(const NodeKey&) const = default;
+};
+
+/// A piece of the overlay: a cell lying in one face of each mesh, its
+/// corners (meta-vertices, counter-clockwise, smallest first) laid out in
+/// both faces' canonical layouts (meta_face_layout). Not always convex: the
+/// map on it is affine on each triangle of triangulate_piece (meta_cut.hpp).
 struct MetaPiece {
-  std::vector<int> nodes;
+  std::vector<NodeKey> nodes;
   std::array<int, 2> face;
   std::array<std::vector<Vec2>, 2> corner;
   std::array<double, 2> area;
@@ -114,6 +136,7 @@ struct MetaMeshSize {
   std::size_t crossings = 0;        // edge pairs that cross
   std::size_t vertices_inside = 0;  // vertices inside a face of the other mesh
   std::size_t shared_vertices = 0;  // vertices of both meshes at one point
+  std::size_t kinks = 0;            // kink points of either mesh's edges
   std::size_t pieces = 0;
 };
 MetaMeshSize meta_mesh_size(const MetaMesh& meta);

@@ -1,5 +1,7 @@
 #include "map/meta_mesh_sampler.hpp"
 
+#include "map/meta_cut.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -10,6 +12,8 @@ MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
   auto pieces = meta_pieces(meta);
   if (!pieces) throw std::invalid_argument("MetaMeshSampler: the meta-mesh does not validate");
   pieces_ = std::move(*pieces);
+  triangles_.reserve(pieces_.size());
+  for (const MetaPiece& piece : pieces_) triangles_.push_back(triangulate_piece(piece));
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
     const std::size_t nf = side.faces.size();
@@ -56,33 +60,25 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
   const int x = std::clamp(int(std::floor((p.x() - g.lo.x()) / g.cell)), 0, g.n - 1);
   const int y = std::clamp(int(std::floor((p.y() - g.lo.y()) / g.cell)), 0, g.n - 1);
   const std::size_t c = std::size_t(y) * g.n + x;
-  // The piece p is deepest inside (points on a shared side belong to either).
+  // The triangle of a piece's triangulation that p is deepest inside
+  // (points on a shared side belong to either).
   int best = -1;
-  double depth = -HUGE_VAL;
+  std::size_t best_triangle = 0;
+  Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
   for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
     const auto& q = pieces_[g.items[k]].corner[m];
-    double d = HUGE_VAL;
-    for (std::size_t i = 0; i < q.size(); ++i) {
-      const Vec2 &a = q[i], &b = q[(i + 1) % q.size()];
-      d = std::min(d, orient(a, b, p) / std::max((b - a).norm(), 1e-300));
+    const auto& tris = triangles_[g.items[k]];
+    for (std::size_t j = 0; j < tris.size(); ++j) {
+      const auto& t = tris[j];
+      const Eigen::Vector3d b = barycentric(p, q[t[0]], q[t[1]], q[t[2]]);
+      if (b.minCoeff() > in.minCoeff()) in = b, best = g.items[k], best_triangle = j;
     }
-    if (d > depth) depth = d, best = g.items[k];
   }
-  const double scale = std::sqrt(std::abs(orient(l[0], l[1], l[2])));
-  if (best < 0 || depth < -1e-9 * scale) return std::nullopt;
-  // The fan triangle of the piece that holds p, its barycentric coordinates
-  // carried to the other face.
+  if (best < 0 || in.minCoeff() < -1e-9) return std::nullopt;
   const MetaPiece& piece = pieces_[best];
-  const auto& q = piece.corner[m];
-  Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
-  std::size_t fan = 1;
-  for (std::size_t j = 1; j + 1 < q.size(); ++j) {
-    if (!(orient(q[0], q[j], q[j + 1]) > 0)) continue;
-    const Eigen::Vector3d b = barycentric(p, q[0], q[j], q[j + 1]);
-    if (b.minCoeff() > in.minCoeff()) in = b, fan = j;
-  }
+  const auto& t = triangles_[best][best_triangle];
   const auto& r = piece.corner[1 - m];
-  const Vec2 image = in[0] * r[0] + in[1] * r[fan] + in[2] * r[fan + 1];
+  const Vec2 image = in[0] * r[t[0]] + in[1] * r[t[1]] + in[2] * r[t[2]];
   const int other = piece.face[1 - m];
   const auto& lo = layout_[1 - m][other];
   Eigen::Vector3d out = barycentric(image, lo[0], lo[1], lo[2]).cwiseMax(0.0);

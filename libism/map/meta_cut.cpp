@@ -1,0 +1,474 @@
+#include "map/meta_cut.hpp"
+
+#include "map/piece_cdt.hpp"
+#include "metrics/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace ism {
+
+namespace {
+
+const char* side_name(int s) {
+  return s == 0 ? "M¹" : "M²";
+}
+std::string face_name(int s, int f) {
+  return std::string(side_name(s)) + " face " + std::to_string(f);
+}
+std::string edge_name(const MetaSide& side, int s, int e) {
+  return std::string(side_name(s)) + " edge " + std::to_string(side.edges[e][0]) + "-" +
+         std::to_string(side.edges[e][1]);
+}
+
+double polygon_area(const std::vector<Vec2>& p) {
+  double a = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+    a += u.x() * v.y() - u.y() * v.x();
+  }
+  return 0.5 * a;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- index
+
+MetaIndex build_index(const MetaMesh& meta) {
+  MetaIndex index;
+  for (int s = 0; s < 2; ++s) {
+    const MetaSide& side = meta.side[s];
+    MetaSideIndex& ix = index[s];
+    ix.edge_faces.assign(side.edges.size(), {-1, -1});
+    ix.vertex_edges.assign(side.n_vertices(), {});
+    ix.vertex_faces.assign(side.n_vertices(), {});
+    ix.residents.assign(side.faces.size(), {});
+    ix.edge_of.reserve(side.edges.size());
+    for (std::size_t e = 0; e < side.edges.size(); ++e) {
+      const auto [u, v] = side.edges[e];
+      ix.edge_of[undirected_edge_key(u, v)] = int(e);
+      ix.vertex_edges[u].push_back(int(e));
+      ix.vertex_edges[v].push_back(int(e));
+    }
+    for (std::size_t f = 0; f < side.faces.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int e = side.face_edges[f][k];
+        ix.edge_faces[e][side.faces[f][k] == side.edges[e][0] ? 0 : 1] = int(f);
+        ix.vertex_faces[side.faces[f][k]].push_back(int(f));
+      }
+  }
+  for (int s = 0; s < 2; ++s) {
+    const MetaSide& other = meta.side[1 - s];
+    for (std::size_t v = 0; v < other.n_vertices(); ++v) {
+      const int f = other.location[v].face;
+      if (f >= 0 && std::size_t(f) < index[s].residents.size())
+        index[s].residents[f].push_back(int(v));
+    }
+  }
+  return index;
+}
+
+void add_resident(MetaIndex& index, int side, int v, int face) {
+  // `side` is the side of v; its residents live in the other side's index.
+  index[1 - side].residents[face].push_back(v);
+}
+
+void remove_resident(MetaIndex& index, int side, int v, int face) {
+  std::erase(index[1 - side].residents[face], v);
+}
+
+// ---------------------------------------------------------------- nodes
+
+MetaNode vertex_node(const MetaMesh& meta, int side, int v) {
+  MetaNode n;
+  const MetaLocation& loc = meta.side[side].location[v];
+  n.place[side] = {Place::vertex, v, 0, Eigen::Vector3d::Zero()};
+  if (loc.vertex >= 0) {
+    n.key = {0, 0, side == 0 ? v : loc.vertex, 0};
+    n.place[1 - side] = {Place::vertex, loc.vertex, 0, Eigen::Vector3d::Zero()};
+  } else {
+    n.key = {0, side, v, 0};
+    n.place[1 - side] = {Place::face, loc.face, 0, loc.bary};
+  }
+  return n;
+}
+
+std::optional<MetaNode> break_node(const MetaMesh& meta, int side, int e, int i) {
+  const auto& list = meta.side[side].crossings[e];
+  const MetaCrossing& c = list[i];
+  MetaNode n;
+  n.place[side] = {Place::edge, e, c.here, Eigen::Vector3d::Zero()};
+  if (c.is_kink()) {
+    int occurrence = 0;
+    for (int j = 0; j < i; ++j) occurrence += list[j].is_kink();
+    n.key = {2, side, e, occurrence};
+    n.place[1 - side] = {Place::face, c.face, 0, c.bary};
+    return n;
+  }
+  n.place[1 - side] = {Place::edge, c.edge, c.there, Eigen::Vector3d::Zero()};
+  const int e0 = side == 0 ? e : c.edge, e1 = side == 0 ? c.edge : e;
+  const auto& list0 = meta.side[0].crossings[e0];
+  int index0 = side == 0 ? i : -1;
+  if (side == 1) {
+    // The same crossing in side 0's list: the record with the parameters
+    // exchanged.
+    auto it = std::lower_bound(list0.begin(), list0.end(), c.there,
+                               [](const MetaCrossing& a, double h) { return a.here < h; });
+    for (auto j = it; j != list0.end() && j->here <= c.there; ++j)
+      if (j->edge == e1 && j->there == c.here) index0 = int(j - list0.begin());
+    if (index0 < 0)
+      for (std::size_t j = 0; j < list0.size(); ++j)
+        if (list0[j].edge == e1 && std::abs(list0[j].here - c.there) <= 1e-12 &&
+            std::abs(list0[j].there - c.here) <= 1e-12)
+          index0 = int(j);
+    if (index0 < 0) return std::nullopt;
+  }
+  int occurrence = 0;
+  for (int j = 0; j < index0; ++j) occurrence += list0[j].edge == e1;
+  n.key = {1, e0, e1, occurrence};
+  return n;
+}
+
+void place_faces(const MetaMesh& meta, const MetaIndex& index, int side, const Place& place,
+                 std::vector<int>& faces) {
+  (void)meta;
+  faces.clear();
+  switch (place.kind) {
+    case Place::vertex:
+      faces = index[side].vertex_faces[place.index];
+      break;
+    case Place::edge:
+      for (int f : index[side].edge_faces[place.index])
+        if (f >= 0) faces.push_back(f);
+      break;
+    case Place::face:
+      faces.push_back(place.index);
+      break;
+  }
+}
+
+namespace {
+
+std::optional<Vec2> place_in_layout(const MetaSide& side, int f, const std::array<Vec2, 3>& l,
+                                    const Place& place) {
+  const Triangle& t = side.faces[f];
+  switch (place.kind) {
+    case Place::vertex:
+      for (int k = 0; k < 3; ++k)
+        if (t[k] == place.index) return l[k];
+      return std::nullopt;
+    case Place::edge:
+      for (int k = 0; k < 3; ++k)
+        if (side.face_edges[f][k] == place.index) {
+          const int k1 = (k + 1) % 3;
+          return t[k] == side.edges[place.index][0] ? Vec2(l[k] + place.t * (l[k1] - l[k]))
+                                                    : Vec2(l[k1] + place.t * (l[k] - l[k1]));
+        }
+      return std::nullopt;
+    case Place::face:
+      if (place.index != f) return std::nullopt;
+      return Vec2(place.bary[0] * l[0] + place.bary[1] * l[1] + place.bary[2] * l[2]);
+  }
+  return std::nullopt;
+}
+
+bool place_on_face(const MetaSide& side, int f, const Place& place) {
+  switch (place.kind) {
+    case Place::vertex: {
+      const Triangle& t = side.faces[f];
+      return t[0] == place.index || t[1] == place.index || t[2] == place.index;
+    }
+    case Place::edge: {
+      const auto& fe = side.face_edges[f];
+      return fe[0] == place.index || fe[1] == place.index || fe[2] == place.index;
+    }
+    case Place::face:
+      return place.index == f;
+  }
+  return false;
+}
+
+/// The segment between two places of face f lies along one of its edges
+/// (both on one edge, or a vertex and an edge through it).
+bool along_an_edge(const MetaSide& side, const Place& a, const Place& b) {
+  if (a.kind == Place::edge && b.kind == Place::edge) return a.index == b.index;
+  if (a.kind == Place::edge && b.kind == Place::vertex)
+    return side.edges[a.index][0] == b.index || side.edges[a.index][1] == b.index;
+  if (a.kind == Place::vertex && b.kind == Place::edge) return along_an_edge(side, b, a);
+  return false;
+}
+
+}  // namespace
+
+std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f, const Place& place) {
+  return place_in_layout(meta.side[side], f, meta_face_layout(meta.side[side].lengths[f]), place);
+}
+
+// ---------------------------------------------------------------- cutting a face
+
+FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
+  FaceCut out;
+  const MetaSide& S = meta.side[s];
+  const MetaSide& T = meta.side[1 - s];
+  const std::array<Vec2, 3> L = meta_face_layout(S.lengths[f]);
+  const double face_area = 0.5 * orient(L[0], L[1], L[2]);
+  const double scale = std::sqrt(std::max(face_area, 1e-300));
+  auto fail = [&](const std::string& why) {
+    out.error = face_name(s, f) + ": " + why;
+    out.pieces.clear();
+    return out;
+  };
+
+  std::vector<MetaNode> nodes;
+  std::vector<Vec2> position;
+  std::map<NodeKey, int> local;
+  std::vector<std::array<int, 2>> segments;
+  std::string error;
+  auto add = [&](const MetaNode& n, const Vec2& p) {
+    auto [it, added] = local.try_emplace(n.key, int(nodes.size()));
+    if (added) {
+      nodes.push_back(n);
+      position.push_back(p);
+    } else if ((position[it->second] - p).norm() > 1e-9 * scale && error.empty()) {
+      error = "a meta-vertex at two places";
+    }
+    return it->second;
+  };
+
+  // The boundary: corners and the break points of the edges between them.
+  for (int k = 0; k < 3; ++k) {
+    const int e = S.face_edges[f][k];
+    const bool forward = S.faces[f][k] == S.edges[e][0];
+    const Vec2 &p = L[k], &q = L[(k + 1) % 3];
+    int previous = add(vertex_node(meta, s, S.faces[f][k]), p);
+    const auto& list = S.crossings[e];
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const int n = int(forward ? i : list.size() - 1 - i);
+      const std::optional<MetaNode> node = break_node(meta, s, e, n);
+      if (!node)
+        return fail("a crossing that " + edge_name(T, 1 - s, list[n].edge) + " does not record");
+      const double t = forward ? list[n].here : 1 - list[n].here;
+      const int id = add(*node, p + t * (q - p));
+      segments.push_back({previous, id});
+      previous = id;
+    }
+    segments.push_back({previous, add(vertex_node(meta, s, S.faces[f][(k + 1) % 3]), q)});
+  }
+  const std::size_t boundary_segments = segments.size();
+
+  // The other side's edges that can enter the face.
+  std::vector<int> candidates;
+  for (int k = 0; k < 3; ++k)
+    for (const MetaCrossing& c : S.crossings[S.face_edges[f][k]])
+      if (!c.is_kink()) candidates.push_back(c.edge);
+  for (int x : index[s].residents[f])
+    candidates.insert(candidates.end(), index[1 - s].vertex_edges[x].begin(),
+                      index[1 - s].vertex_edges[x].end());
+  for (int v : S.faces[f])
+    if (const int x = S.location[v].vertex; x >= 0)
+      candidates.insert(candidates.end(), index[1 - s].vertex_edges[x].begin(),
+                        index[1 - s].vertex_edges[x].end());
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+
+  std::vector<MetaNode> chain;
+  for (int g : candidates) {
+    const auto& list = T.crossings[g];
+    chain.clear();
+    chain.push_back(vertex_node(meta, 1 - s, T.edges[g][0]));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::optional<MetaNode> node = break_node(meta, 1 - s, g, int(i));
+      if (!node)
+        return fail("a crossing that " + edge_name(S, s, list[i].edge) + " does not record");
+      chain.push_back(*node);
+    }
+    chain.push_back(vertex_node(meta, 1 - s, T.edges[g][1]));
+    for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
+      const Place &a = chain[j].place[s], &b = chain[j + 1].place[s];
+      if (!place_on_face(S, f, a) || !place_on_face(S, f, b)) continue;
+      if (a.kind == Place::vertex && b.kind == Place::vertex) continue;  // along an edge of f
+      if (along_an_edge(S, a, b))
+        return fail(edge_name(T, 1 - s, g) + " runs along one of its edges");
+      const int u = add(chain[j], *place_in_layout(S, f, L, a));
+      const int v = add(chain[j + 1], *place_in_layout(S, f, L, b));
+      segments.push_back({u, v});
+    }
+  }
+  if (!error.empty()) return fail(error);
+  (void)boundary_segments;
+
+  // Neighbours of each node, counter-clockwise.
+  const std::size_t n = nodes.size();
+  std::vector<std::vector<std::pair<double, int>>> around(n);
+  for (const auto& [u, v] : segments) {
+    if (u == v) return fail("an edge of the other mesh has no length in it");
+    const Vec2 d = position[v] - position[u];
+    around[u].push_back({std::atan2(d.y(), d.x()), v});
+    around[v].push_back({std::atan2(-d.y(), -d.x()), u});
+  }
+  for (auto& a : around) {
+    std::sort(a.begin(), a.end());
+    for (std::size_t i = 1; i < a.size(); ++i)
+      if (a[i].second == a[i - 1].second) return fail("two segments join the same meta-vertices");
+    if (a.size() < 2) return fail("a meta-vertex on fewer than two segments");
+  }
+  // Each directed segment bounds the cell on its left; the next one turns
+  // as far right as possible (the first neighbour clockwise of the way back).
+  std::vector<std::vector<char>> done(n);
+  for (std::size_t u = 0; u < n; ++u) done[u].assign(around[u].size(), 0);
+  int outer = 0;
+  double total = 0;
+  std::vector<int> cell;
+  std::vector<Vec2> other;
+  std::vector<int> faces, common;
+  for (std::size_t u0 = 0; u0 < n; ++u0)
+    for (std::size_t j0 = 0; j0 < around[u0].size(); ++j0) {
+      if (done[u0][j0]) continue;
+      cell.clear();
+      int u = int(u0), j = int(j0);
+      while (!done[u][j]) {
+        done[u][j] = 1;
+        cell.push_back(u);
+        const int v = around[u][j].second;
+        int back = 0;
+        while (around[v][back].second != u) ++back;
+        j = (back + int(around[v].size()) - 1) % int(around[v].size());
+        u = v;
+        if (cell.size() > 2 * n) return fail("its arrangement is not planar");
+      }
+      if (u != int(u0)) return fail("its arrangement is not planar");
+      MetaPiece piece;
+      for (int c : cell) piece.corner[s].push_back(position[c]);
+      const double area = polygon_area(piece.corner[s]);
+      if (area < 0) {
+        ++outer;
+        continue;
+      }
+      if (!(area > 0)) return fail("a piece with no area");
+      total += area;
+      // Smallest key first.
+      std::size_t first = 0;
+      for (std::size_t i = 1; i < cell.size(); ++i)
+        if (nodes[cell[i]].key < nodes[cell[first]].key) first = i;
+      std::rotate(cell.begin(), cell.begin() + first, cell.end());
+      std::rotate(piece.corner[s].begin(), piece.corner[s].begin() + first, piece.corner[s].end());
+      for (int c : cell) piece.nodes.push_back(nodes[c].key);
+      piece.face[s] = f;
+      piece.area[s] = area;
+      // The face of the other side holding the piece: the one all corners
+      // touch in which it is positive.
+      place_faces(meta, index, 1 - s, nodes[cell[0]].place[1 - s], common);
+      for (std::size_t i = 1; i < cell.size() && common.size() > 1; ++i) {
+        place_faces(meta, index, 1 - s, nodes[cell[i]].place[1 - s], faces);
+        std::erase_if(
+            common, [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
+      }
+      int found = -1;
+      for (int h : common) {
+        const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
+        other.clear();
+        bool ok = true;
+        for (int c : cell) {
+          const std::optional<Vec2> p = place_in_layout(T, h, Lh, nodes[c].place[1 - s]);
+          if (!p) {
+            ok = false;
+            break;
+          }
+          other.push_back(*p);
+        }
+        if (!ok) continue;
+        const double a = polygon_area(other);
+        if (!(a > 0)) continue;
+        if (found >= 0) return fail("a piece that lies in two faces of the other mesh");
+        found = h;
+        piece.face[1 - s] = h;
+        piece.corner[1 - s] = other;
+        piece.area[1 - s] = a;
+      }
+      if (found < 0) return fail("a piece that is folded or torn on the other mesh");
+      out.pieces.push_back(std::move(piece));
+    }
+  if (outer != 1) return fail("the other mesh's edges in it are not connected to its boundary");
+  if (std::abs(total - face_area) > 1e-9 * face_area)
+    return fail("its pieces cover " + std::to_string(total / face_area) + " of it");
+  return out;
+}
+
+// ---------------------------------------------------------------- triangulation
+
+std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt) {
+  if (cdt) *cdt = false;
+  const auto& P = piece.corner[0];
+  const auto& Q = piece.corner[1];
+  const int n = int(P.size());
+  std::vector<std::array<int, 3>> out;
+  if (n < 3) return out;
+  const double ap = std::max(piece.area[0], 1e-300), aq = std::max(piece.area[1], 1e-300);
+  auto quality = [&](int a, int b, int c) {
+    return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
+  };
+  if (n == 3) {
+    if (quality(0, 1, 2) > 0) out.push_back({0, 1, 2});
+    return out;
+  }
+  // The fan whose worst triangle is best (relative to the piece's areas).
+  int best = -1;
+  double best_quality = 1e-12;
+  for (int a = 0; a < n; ++a) {
+    double worst = HUGE_VAL;
+    for (int j = 1; j + 1 < n && worst > best_quality; ++j)
+      worst = std::min(worst, quality(a, (a + j) % n, (a + j + 1) % n));
+    if (worst > best_quality) best_quality = worst, best = a;
+  }
+  if (best >= 0) {
+    for (int j = 1; j + 1 < n; ++j) out.push_back({best, (best + j) % n, (best + j + 1) % n});
+    return out;
+  }
+  for (int side = 0; side < 2; ++side) {
+    const auto triangles = polygon_cdt(piece.corner[side]);
+    if (!triangles) continue;
+    bool ok = true;
+    for (const auto& t : *triangles)
+      if (!(quality(t[0], t[1], t[2]) > 0)) ok = false;
+    if (ok) {
+      if (cdt) *cdt = true;
+      return *triangles;
+    }
+  }
+  return out;
+}
+
+double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
+                       const EnergyTerms& terms, double forward_weight) {
+  const double twice_d = orient(p[0], p[1], p[2]);
+  const double twice_m = orient(q[0], q[1], q[2]);
+  if (!(twice_d > 0) || !(twice_m > 0)) return HUGE_VAL;
+  const double area_d = 0.5 * twice_d, area_m = 0.5 * twice_m;
+  // |J|²_F by the cotangent formula (J: side 0 -> side 1): -(1/4A²) Σ_k
+  // (d_{k+1}·d_{k+2}) |e_k|², d_k the side-0 edge opposite corner k, e_k
+  // the side-1 one.
+  const Vec2 d0 = p[2] - p[1], d1 = p[0] - p[2], d2 = p[1] - p[0];
+  const double s0 = (q[2] - q[1]).squaredNorm(), s1 = (q[0] - q[2]).squaredNorm(),
+               s2 = (q[1] - q[0]).squaredNorm();
+  const double frob =
+      -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) / (4 * area_d * area_d);
+  const double det = area_m / area_d;
+  const double a0 = terms.area0, a1 = terms.area1;
+  return forward_weight * area_m * (a0 / (a1 * a1)) * 0.5 * frob +
+         terms.inverse_weight * area_d * (a1 / (a0 * a0)) * 0.5 * frob / (det * det);
+}
+
+double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {
+  const auto triangles = triangulate_piece(piece);
+  if (triangles.empty()) return HUGE_VAL;
+  double sum = 0;
+  const auto& P = piece.corner[0];
+  const auto& Q = piece.corner[1];
+  for (const auto& t : triangles)
+    sum += triangle_energy({P[t[0]], P[t[1]], P[t[2]]}, {Q[t[0]], Q[t[1]], Q[t[2]]}, terms,
+                           forward_weight);
+  return sum;
+}
+
+}  // namespace ism

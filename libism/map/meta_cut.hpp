@@ -1,0 +1,114 @@
+#pragma once
+// The overlay of a meta-mesh, face by face: each face of either side cut by
+// the other side's edges into pieces (the cells of a planar graph in the
+// face's own metric), each piece with its corners in both faces' layouts,
+// triangulated the same way in both so that the map on it is piecewise
+// affine, and its symmetric stretch. The global validate(), measures and
+// queries and every local operation of the map core are built on these.
+#include "map/meta_mesh.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace ism {
+
+/// Views of one side of a meta-mesh derived from its faces and locations,
+/// for local queries. They go stale when faces, edges or locations change;
+/// whoever edits the meta-mesh keeps them current (InterSurfaceMap does).
+struct MetaSideIndex {
+  /// Per edge: the face in which it runs from edges[e][0] to edges[e][1]
+  /// (counter-clockwise), and the other face; -1 where there is none.
+  std::vector<std::array<int, 2>> edge_faces;
+  /// Per vertex: its edges.
+  std::vector<std::vector<int>> vertex_edges;
+  /// Per vertex: its faces.
+  std::vector<std::vector<int>> vertex_faces;
+  /// Per face: the vertices of the other side located inside it.
+  std::vector<std::vector<int>> residents;
+  /// Undirected edge key (undirected_edge_key) -> edge.
+  std::unordered_map<std::uint64_t, int> edge_of;
+
+  int edge(int u, int v) const {
+    auto it = edge_of.find(undirected_edge_key(u, v));
+    return it == edge_of.end() ? -1 : it->second;
+  }
+};
+using MetaIndex = std::array<MetaSideIndex, 2>;
+
+/// The views of both sides (edges must be built, see build_edges).
+MetaIndex build_index(const MetaMesh& meta);
+/// Adds or removes vertex v of `side` (located in a face of the other side)
+/// in that face's residents.
+void add_resident(MetaIndex& index, int side, int v, int face);
+void remove_resident(MetaIndex& index, int side, int v, int face);
+
+/// Where a meta-vertex lies on one side: on a vertex, on an edge (at
+/// parameter t from its first vertex) or inside a face (barycentric).
+struct Place {
+  enum Kind : int { vertex, edge, face } kind = vertex;
+  int index = -1;
+  double t = 0;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+};
+
+/// A meta-vertex: its key and where it lies on each side.
+struct MetaNode {
+  NodeKey key;
+  std::array<Place, 2> place;
+};
+
+/// The meta-vertex of vertex v of `side`.
+MetaNode vertex_node(const MetaMesh& meta, int side, int v);
+/// The meta-vertex of the i-th break point of edge e of `side`; nothing if
+/// a crossing is not recorded by the other edge too.
+std::optional<MetaNode> break_node(const MetaMesh& meta, int side, int e, int i);
+/// The faces of `side` that a place touches (the faces around a vertex,
+/// the two faces of an edge, or the face).
+void place_faces(const MetaMesh& meta, const MetaIndex& index, int side, const Place& place,
+                 std::vector<int>& faces);
+/// The position of a place in the canonical layout of face f of `side`
+/// (meta_face_layout); nothing if the place is not on that face.
+std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f, const Place& place);
+
+/// One face cut into pieces.
+struct FaceCut {
+  std::optional<std::string> error;
+  std::vector<MetaPiece> pieces;
+};
+
+/// Cuts face f of `side` by the other side's edges. Each piece gets its
+/// face on the other side and its corners there; a piece that is not
+/// positive on the other side, pieces that do not tile the face (1e-9
+/// relative), or records that do not fit (an edge of the other side
+/// crossing this face's edges where its own records say otherwise) give an
+/// error naming the face.
+FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int side, int f);
+
+/// A triangulation of a piece by its corner indices, counter-clockwise and
+/// of positive area in both layouts: a fan when one works (always for a
+/// piece convex on both sides), else the constrained Delaunay triangulation
+/// of one side's polygon if it is valid on the other. Empty if neither is.
+/// `cdt` tells whether the second was used.
+std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt = nullptr);
+
+/// The weights of the energy the map core lowers: symmetric stretch (paper
+/// §5.2), side 0 read as the domain, with the inverse term (side 1 -> side
+/// 0) weighted by `inverse_weight` and the forward term of a piece by
+/// `forward_weight` (e.g. a curvature density of side 1's face; 1 if empty).
+struct EnergyTerms {
+  double area0 = 1, area1 = 1;  // total areas of the sides
+  double inverse_weight = 1;
+};
+
+/// Energy of one affine triangle: corners p on side 0, q on side 1 (both
+/// counter-clockwise); HUGE_VAL if either is not positive.
+double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
+                       const EnergyTerms& terms, double forward_weight = 1);
+/// Energy of a piece through triangulate_piece (HUGE_VAL if none).
+double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
+
+}  // namespace ism
