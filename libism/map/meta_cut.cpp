@@ -248,8 +248,9 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
       const std::optional<MetaNode> node = break_node(meta, s, e, n);
       if (!node)
         return fail("a crossing that " + edge_name(T, 1 - s, list[n].edge) + " does not record");
-      const double t = forward ? list[n].here : 1 - list[n].here;
-      const int id = add(*node, p + t * (q - p));
+      // The same arithmetic as every other use of this place (both cuts of
+      // a piece give bit-identical corners, so the same triangulation).
+      const int id = add(*node, *place_in_layout(S, f, L, node->place[s]));
       segments.push_back({previous, id});
       previous = id;
     }
@@ -298,8 +299,75 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   if (!error.empty()) return fail(error);
   (void)boundary_segments;
 
+  std::string why;
+  const auto cells = planar_cells(position, segments, &why);
+  if (!cells) return fail(why);
+  double total = 0;
+  std::vector<int> cell;
+  std::vector<Vec2> other;
+  std::vector<int> faces, common;
+  for (const std::vector<int>& found_cell : *cells) {
+    cell = found_cell;
+    MetaPiece piece;
+    for (int c : cell) piece.corner[s].push_back(position[c]);
+    const double area = polygon_area(piece.corner[s]);
+    total += area;
+    // Smallest key first.
+    std::size_t first = 0;
+    for (std::size_t i = 1; i < cell.size(); ++i)
+      if (nodes[cell[i]].key < nodes[cell[first]].key) first = i;
+    std::rotate(cell.begin(), cell.begin() + first, cell.end());
+    std::rotate(piece.corner[s].begin(), piece.corner[s].begin() + first, piece.corner[s].end());
+    for (int c : cell) piece.nodes.push_back(nodes[c].key);
+    piece.face[s] = f;
+    piece.area[s] = area;
+    // The face of the other side holding the piece: the one all corners
+    // touch in which it is positive.
+    place_faces(meta, index, 1 - s, nodes[cell[0]].place[1 - s], common);
+    for (std::size_t i = 1; i < cell.size() && common.size() > 1; ++i) {
+      place_faces(meta, index, 1 - s, nodes[cell[i]].place[1 - s], faces);
+      std::erase_if(common,
+                    [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
+    }
+    int found = -1;
+    for (int h : common) {
+      const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
+      other.clear();
+      bool ok = true;
+      for (int c : cell) {
+        const std::optional<Vec2> p = place_in_layout(T, h, Lh, nodes[c].place[1 - s]);
+        if (!p) {
+          ok = false;
+          break;
+        }
+        other.push_back(*p);
+      }
+      if (!ok) continue;
+      const double a = polygon_area(other);
+      if (!(a > 0)) continue;
+      if (found >= 0) return fail("a piece that lies in two faces of the other mesh");
+      found = h;
+      piece.face[1 - s] = h;
+      piece.corner[1 - s] = other;
+      piece.area[1 - s] = a;
+    }
+    if (found < 0) return fail("a piece that is folded or torn on the other mesh");
+    out.pieces.push_back(std::move(piece));
+  }
+  if (std::abs(total - face_area) > 1e-9 * face_area)
+    return fail("its pieces cover " + std::to_string(total / face_area) + " of it");
+  return out;
+}
+
+std::optional<std::vector<std::vector<int>>> planar_cells(
+    const std::vector<Vec2>& position, const std::vector<std::array<int, 2>>& segments,
+    std::string* error) {
+  auto fail = [&](const char* why) {
+    if (error) *error = why;
+    return std::nullopt;
+  };
+  const std::size_t n = position.size();
   // Neighbours of each node, counter-clockwise.
-  const std::size_t n = nodes.size();
   std::vector<std::vector<std::pair<double, int>>> around(n);
   for (const auto& [u, v] : segments) {
     if (u == v) return fail("an edge of the other mesh has no length in it");
@@ -308,6 +376,7 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
     around[v].push_back({std::atan2(-d.y(), -d.x()), u});
   }
   for (auto& a : around) {
+    if (a.empty()) continue;
     std::sort(a.begin(), a.end());
     for (std::size_t i = 1; i < a.size(); ++i)
       if (a[i].second == a[i - 1].second) return fail("two segments join the same meta-vertices");
@@ -318,10 +387,9 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   std::vector<std::vector<char>> done(n);
   for (std::size_t u = 0; u < n; ++u) done[u].assign(around[u].size(), 0);
   int outer = 0;
-  double total = 0;
+  std::vector<std::vector<int>> cells;
   std::vector<int> cell;
-  std::vector<Vec2> other;
-  std::vector<int> faces, common;
+  std::vector<Vec2> corners;
   for (std::size_t u0 = 0; u0 < n; ++u0)
     for (std::size_t j0 = 0; j0 < around[u0].size(); ++j0) {
       if (done[u0][j0]) continue;
@@ -338,61 +406,18 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
         if (cell.size() > 2 * n) return fail("its arrangement is not planar");
       }
       if (u != int(u0)) return fail("its arrangement is not planar");
-      MetaPiece piece;
-      for (int c : cell) piece.corner[s].push_back(position[c]);
-      const double area = polygon_area(piece.corner[s]);
+      corners.clear();
+      for (int c : cell) corners.push_back(position[c]);
+      const double area = polygon_area(corners);
       if (area < 0) {
         ++outer;
         continue;
       }
       if (!(area > 0)) return fail("a piece with no area");
-      total += area;
-      // Smallest key first.
-      std::size_t first = 0;
-      for (std::size_t i = 1; i < cell.size(); ++i)
-        if (nodes[cell[i]].key < nodes[cell[first]].key) first = i;
-      std::rotate(cell.begin(), cell.begin() + first, cell.end());
-      std::rotate(piece.corner[s].begin(), piece.corner[s].begin() + first, piece.corner[s].end());
-      for (int c : cell) piece.nodes.push_back(nodes[c].key);
-      piece.face[s] = f;
-      piece.area[s] = area;
-      // The face of the other side holding the piece: the one all corners
-      // touch in which it is positive.
-      place_faces(meta, index, 1 - s, nodes[cell[0]].place[1 - s], common);
-      for (std::size_t i = 1; i < cell.size() && common.size() > 1; ++i) {
-        place_faces(meta, index, 1 - s, nodes[cell[i]].place[1 - s], faces);
-        std::erase_if(
-            common, [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
-      }
-      int found = -1;
-      for (int h : common) {
-        const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
-        other.clear();
-        bool ok = true;
-        for (int c : cell) {
-          const std::optional<Vec2> p = place_in_layout(T, h, Lh, nodes[c].place[1 - s]);
-          if (!p) {
-            ok = false;
-            break;
-          }
-          other.push_back(*p);
-        }
-        if (!ok) continue;
-        const double a = polygon_area(other);
-        if (!(a > 0)) continue;
-        if (found >= 0) return fail("a piece that lies in two faces of the other mesh");
-        found = h;
-        piece.face[1 - s] = h;
-        piece.corner[1 - s] = other;
-        piece.area[1 - s] = a;
-      }
-      if (found < 0) return fail("a piece that is folded or torn on the other mesh");
-      out.pieces.push_back(std::move(piece));
+      cells.push_back(cell);
     }
   if (outer != 1) return fail("the other mesh's edges in it are not connected to its boundary");
-  if (std::abs(total - face_area) > 1e-9 * face_area)
-    return fail("its pieces cover " + std::to_string(total / face_area) + " of it");
-  return out;
+  return cells;
 }
 
 // ---------------------------------------------------------------- triangulation
@@ -404,7 +429,8 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
   const int n = int(P.size());
   std::vector<std::array<int, 3>> out;
   if (n < 3) return out;
-  const double ap = std::max(piece.area[0], 1e-300), aq = std::max(piece.area[1], 1e-300);
+  // Areas from the corners themselves: the result depends on nothing else.
+  const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
   auto quality = [&](int a, int b, int c) {
     return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
   };
@@ -412,7 +438,8 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
     if (quality(0, 1, 2) > 0) out.push_back({0, 1, 2});
     return out;
   }
-  // The fan whose worst triangle is best (relative to the piece's areas).
+  // The fan whose worst triangle is best (relative to the piece's areas),
+  // the first such corner from the smallest key on.
   int best = -1;
   double best_quality = 1e-12;
   for (int a = 0; a < n; ++a) {
@@ -424,6 +451,21 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
   if (best >= 0) {
     for (int j = 1; j + 1 < n; ++j) out.push_back({best, (best + j) % n, (best + j + 1) % n});
     return out;
+  }
+  // A star around the mean of the corners (index n, the same point of the
+  // piece on both sides): pieces with long runs of collinear corners on both
+  // sides, where no fan is valid.
+  {
+    const Vec2 cp = piece_point(piece, 0, n), cq = piece_point(piece, 1, n);
+    bool ok = true;
+    for (int i = 0; i < n && ok; ++i) {
+      const int j = (i + 1) % n;
+      ok = orient(cp, P[i], P[j]) / ap > 1e-12 && orient(cq, Q[i], Q[j]) / aq > 1e-12;
+    }
+    if (ok) {
+      for (int i = 0; i < n; ++i) out.push_back({n, i, (i + 1) % n});
+      return out;
+    }
   }
   for (int side = 0; side < 2; ++side) {
     const auto triangles = polygon_cdt(piece.corner[side]);
@@ -437,6 +479,14 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
     }
   }
   return out;
+}
+
+Vec2 piece_point(const MetaPiece& piece, int side, int i) {
+  const auto& c = piece.corner[side];
+  if (i < int(c.size())) return c[i];
+  Vec2 sum = Vec2::Zero();
+  for (const Vec2& p : c) sum += p;
+  return sum / double(c.size());
 }
 
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
@@ -463,10 +513,10 @@ double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double for
   const auto triangles = triangulate_piece(piece);
   if (triangles.empty()) return HUGE_VAL;
   double sum = 0;
-  const auto& P = piece.corner[0];
-  const auto& Q = piece.corner[1];
+  auto p = [&](int i) { return piece_point(piece, 0, i); };
+  auto q = [&](int i) { return piece_point(piece, 1, i); };
   for (const auto& t : triangles)
-    sum += triangle_energy({P[t[0]], P[t[1]], P[t[2]]}, {Q[t[0]], Q[t[1]], Q[t[2]]}, terms,
+    sum += triangle_energy({p(t[0]), p(t[1]), p(t[2])}, {q(t[0]), q(t[1]), q(t[2])}, terms,
                            forward_weight);
   return sum;
 }

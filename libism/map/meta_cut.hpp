@@ -88,11 +88,24 @@ struct FaceCut {
 /// error naming the face.
 FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int side, int f);
 
+/// The bounded cells of a planar straight-line graph (positions, segments
+/// between them), each as its nodes counter-clockwise, with positive area;
+/// nothing (and `error` set) if a node has fewer than two segments, two
+/// segments join the same nodes, the cells do not close, or there is not
+/// exactly one unbounded cell.
+std::optional<std::vector<std::vector<int>>> planar_cells(
+    const std::vector<Vec2>& position, const std::vector<std::array<int, 2>>& segments,
+    std::string* error = nullptr);
+
 /// A triangulation of a piece by its corner indices, counter-clockwise and
-/// of positive area in both layouts: a fan when one works (always for a
-/// piece convex on both sides), else the constrained Delaunay triangulation
-/// of one side's polygon if it is valid on the other. Empty if neither is.
-/// `cdt` tells whether the second was used.
+/// of positive area in both layouts: the fan whose worst triangle is best
+/// when one works (always for a piece convex on both sides without
+/// collinear corners); else a star around the mean of the corners (index n
+/// = the number of corners, piece_point) if it works on both sides; else
+/// the constrained Delaunay triangulation of one side's polygon if it is
+/// valid on the other. Empty if none is. `cdt` tells whether the last was
+/// used. Depends only on the piece's corners, so it is the same from
+/// whichever side the piece was cut.
 std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt = nullptr);
 
 /// The weights of the energy the map core lowers: symmetric stretch (paper
@@ -109,6 +122,9 @@ struct EnergyTerms {
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
+/// Corner i of a piece on a side, or for i = the number of corners the
+/// mean of the corners (the centre of a star triangulation).
+Vec2 piece_point(const MetaPiece& piece, int side, int i);
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
 
 }  // namespace ism

@@ -66,19 +66,22 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
   std::size_t best_triangle = 0;
   Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
   for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
-    const auto& q = pieces_[g.items[k]].corner[m];
+    const MetaPiece& candidate = pieces_[g.items[k]];
     const auto& tris = triangles_[g.items[k]];
     for (std::size_t j = 0; j < tris.size(); ++j) {
       const auto& t = tris[j];
-      const Eigen::Vector3d b = barycentric(p, q[t[0]], q[t[1]], q[t[2]]);
+      const Eigen::Vector3d b =
+          barycentric(p, piece_point(candidate, m, t[0]), piece_point(candidate, m, t[1]),
+                      piece_point(candidate, m, t[2]));
       if (b.minCoeff() > in.minCoeff()) in = b, best = g.items[k], best_triangle = j;
     }
   }
   if (best < 0 || in.minCoeff() < -1e-9) return std::nullopt;
   const MetaPiece& piece = pieces_[best];
   const auto& t = triangles_[best][best_triangle];
-  const auto& r = piece.corner[1 - m];
-  const Vec2 image = in[0] * r[t[0]] + in[1] * r[t[1]] + in[2] * r[t[2]];
+  const Vec2 image = in[0] * piece_point(piece, 1 - m, t[0]) +
+                     in[1] * piece_point(piece, 1 - m, t[1]) +
+                     in[2] * piece_point(piece, 1 - m, t[2]);
   const int other = piece.face[1 - m];
   const auto& lo = layout_[1 - m][other];
   Eigen::Vector3d out = barycentric(image, lo[0], lo[1], lo[2]).cwiseMax(0.0);

@@ -1,0 +1,229 @@
+// InterSurfaceMap: set-up, the edit transaction, energy and checks. The
+// local operations (charts, optimisation, splits) are in local_chart.cpp.
+#include "map/inter_surface_map.hpp"
+
+#include "map/inter_surface_map_impl.hpp"
+#include "metrics/metrics.hpp"
+
+#include <algorithm>
+#include <map>
+#include <stdexcept>
+
+namespace ism {
+
+MapSideInput side_from_pm(const ProgressiveMesh& pm) {
+  MapSideInput in;
+  in.base_faces = pm.base.triangles;
+  in.base_vertices = pm.base_vertices;
+  in.n_vertices = pm.base.n_vertices();
+  in.positions = pm.base.positions;
+  in.splits = pm.splits;
+  return in;
+}
+
+MapSideInput side_from_domain(const TriangleMesh& domain, std::vector<FaceLengths> lengths) {
+  MapSideInput in;
+  in.base_faces = domain.triangles;
+  in.n_vertices = domain.n_vertices();
+  for (std::size_t v = 0; v < in.n_vertices; ++v) in.base_vertices.push_back(int(v));
+  in.base_lengths = std::move(lengths);
+  return in;
+}
+
+InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
+                                 InterSurfaceOptions options)
+    : input_{std::move(side0), std::move(side1)}, options_(options) {
+  const std::size_t nb = input_[0].base_vertices.size();
+  if (input_[1].base_vertices.size() != nb ||
+      input_[0].base_faces.size() != input_[1].base_faces.size())
+    throw std::invalid_argument("the two base meshes differ in size");
+  for (int s = 0; s < 2; ++s) {
+    const MapSideInput& in = input_[s];
+    MetaSide& side = meta_.side[s];
+    if (in.positions.empty() && in.base_lengths.size() != in.base_faces.size())
+      throw std::invalid_argument("a side has neither positions nor a metric");
+    side.faces = in.base_faces;
+    side.positions = in.positions;
+    side.location.assign(in.n_vertices, {});
+    pinned_[s].assign(in.n_vertices, 0);
+    for (std::size_t f = 0; f < side.faces.size(); ++f)
+      side.lengths.push_back(in.positions.empty() ? in.base_lengths[f]
+                                                  : face_lengths(s, side.faces[f]));
+    if (!build_edges(side)) throw std::invalid_argument("a base mesh is not a closed manifold");
+    side.crossings.assign(side.edges.size(), {});
+    active_[s] = nb;
+  }
+  // Base face f of both sides: the same base vertices in the same order.
+  std::array<std::vector<int>, 2> base_of;
+  for (int s = 0; s < 2; ++s) {
+    base_of[s].assign(input_[s].n_vertices, -1);
+    for (std::size_t i = 0; i < nb; ++i) base_of[s][input_[s].base_vertices[i]] = int(i);
+  }
+  for (std::size_t f = 0; f < input_[0].base_faces.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (base_of[0][input_[0].base_faces[f][k]] != base_of[1][input_[1].base_faces[f][k]])
+        throw std::invalid_argument("base face " + std::to_string(f) +
+                                    " differs between the sides");
+  for (std::size_t i = 0; i < nb; ++i) {
+    const int v0 = input_[0].base_vertices[i], v1 = input_[1].base_vertices[i];
+    meta_.side[0].location[v0].vertex = v1;
+    meta_.side[1].location[v1].vertex = v0;
+    pinned_[0][v0] = pinned_[1][v1] = options_.hold_features;
+  }
+  index_ = build_index(meta_);
+  for (int s = 0; s < 2; ++s)
+    for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
+}
+
+FaceLengths InterSurfaceMap::face_lengths(int s, const Triangle& t) const {
+  const auto& x = meta_.side[s].positions;
+  return {(x[t[1]] - x[t[0]]).norm(), (x[t[2]] - x[t[1]]).norm(), (x[t[0]] - x[t[2]]).norm()};
+}
+
+double InterSurfaceMap::face_area(int s, int f) const {
+  const auto& l = meta_.side[s].lengths[f];
+  return triangle_area({l[0], l[1], l[2]});
+}
+
+std::vector<int> InterSurfaceMap::ring_faces(int s, int v) const {
+  const MetaSide& side = meta_.side[s];
+  const auto& around = index_[s].vertex_faces[v];
+  std::vector<int> out;
+  if (around.empty()) return out;
+  auto corner = [&](int f) {
+    const Triangle& t = side.faces[f];
+    return t[0] == v ? 0 : t[1] == v ? 1 : 2;
+  };
+  int f = around.front();
+  do {
+    out.push_back(f);
+    const int last = side.faces[f][(corner(f) + 2) % 3];
+    int next = -1;
+    for (int g : around)
+      if (side.faces[g][(corner(g) + 1) % 3] == last) next = g;
+    f = next;
+    if (f < 0 || out.size() > around.size()) return {};
+  } while (f != out.front());
+  if (out.size() != around.size()) return {};
+  return out;
+}
+
+std::vector<int> InterSurfaceMap::neighbours(int s, int v) const {
+  std::vector<int> out;
+  for (int f : ring_faces(s, v)) {
+    const Triangle& t = meta_.side[s].faces[f];
+    out.push_back(t[0] == v ? t[1] : t[1] == v ? t[2] : t[0]);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- edits
+
+void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* edit) {
+  MetaLocation& current = meta_.side[s].location[v];
+  if (edit) edit->locations.push_back({s, v, current});
+  if (current.face >= 0) remove_resident(index_, s, v, current.face);
+  current = loc;
+  if (current.face >= 0) add_resident(index_, s, v, current.face);
+}
+
+void InterSurfaceMap::set_breaks(int s, int e, std::vector<MetaCrossing> list, Edit* edit) {
+  auto& current = meta_.side[s].crossings[e];
+  if (edit) edit->lists.push_back({s, e, std::move(current)});
+  current = std::move(list);
+}
+
+void InterSurfaceMap::rollback(Edit& edit) {
+  for (auto it = edit.lists.rbegin(); it != edit.lists.rend(); ++it)
+    meta_.side[it->side].crossings[it->edge] = std::move(it->list);
+  for (auto it = edit.locations.rbegin(); it != edit.locations.rend(); ++it)
+    set_location(it->side, it->vertex, it->location, nullptr);
+  edit = Edit{};
+}
+
+// ---------------------------------------------------------------- energy and checks
+
+double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const {
+  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
+  double sum = 0;
+  for (int f : faces) {
+    const FaceCut cut = cut_face(meta_, index_, s, f);
+    if (cut.error) return HUGE_VAL;
+    for (const MetaPiece& piece : cut.pieces) sum += piece_energy(piece, terms);
+  }
+  return sum;
+}
+
+double InterSurfaceMap::energy() const {
+  std::vector<int> all(meta_.side[1].faces.size());
+  for (std::size_t f = 0; f < all.size(); ++f) all[f] = int(f);
+  return faces_energy(1, all);
+}
+
+std::optional<std::string> InterSurfaceMap::validate() const {
+  return ism::validate(meta_);
+}
+
+MapMeasures InterSurfaceMap::measures() const {
+  return ism::measures(meta_).value_or(MapMeasures{});
+}
+
+std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector<int>& faces,
+                                                        double* energy) const {
+  // The pieces of the faces of side s, and those of every face of the other
+  // side they lie in: both sides must give the same pieces.
+  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
+  std::vector<MetaPiece> mine, theirs;
+  std::vector<int> others;
+  double sum = 0;
+  for (int f : faces) {
+    FaceCut cut = cut_face(meta_, index_, s, f);
+    if (cut.error) return cut.error;
+    for (MetaPiece& p : cut.pieces) {
+      others.push_back(p.face[1 - s]);
+      if (energy) sum += piece_energy(p, terms);
+      mine.push_back(std::move(p));
+    }
+  }
+  std::sort(others.begin(), others.end());
+  others.erase(std::unique(others.begin(), others.end()), others.end());
+  std::vector<int> sorted_faces = faces;
+  std::sort(sorted_faces.begin(), sorted_faces.end());
+  for (int h : others) {
+    FaceCut cut = cut_face(meta_, index_, 1 - s, h);
+    if (cut.error) return cut.error;
+    for (MetaPiece& p : cut.pieces)
+      if (std::binary_search(sorted_faces.begin(), sorted_faces.end(), p.face[s]))
+        theirs.push_back(std::move(p));
+  }
+  auto by_nodes = [](const MetaPiece& a, const MetaPiece& b) { return a.nodes < b.nodes; };
+  std::sort(mine.begin(), mine.end(), by_nodes);
+  std::sort(theirs.begin(), theirs.end(), by_nodes);
+  if (mine.size() != theirs.size())
+    return std::string("the two sides cut the changed faces into ") + std::to_string(mine.size()) +
+           " and " + std::to_string(theirs.size()) + " pieces";
+  for (std::size_t i = 0; i < mine.size(); ++i)
+    if (mine[i].nodes != theirs[i].nodes || mine[i].face != theirs[i].face)
+      return std::string("a changed piece is not the same from both sides");
+  if (energy) *energy = sum;
+  return std::nullopt;
+}
+
+std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& faces,
+                                             const Proposal& proposal, double energy_before,
+                                             bool need_gain) {
+  Edit edit;
+  for (const auto& [v, loc] : proposal.locations[0]) set_location(s, v, loc, &edit);
+  for (const auto& [x, loc] : proposal.locations[1]) set_location(1 - s, x, loc, &edit);
+  for (const auto& [e, list] : proposal.lists) set_breaks(s, e, list, &edit);
+  for (const auto& [g, list] : proposal.other_lists) set_breaks(1 - s, g, list, &edit);
+  double after = 0;
+  if (check_faces(s, faces, &after) || !(after < HUGE_VAL) ||
+      (need_gain && !(after < energy_before * (1 - 1e-12)))) {
+    rollback(edit);
+    return std::nullopt;
+  }
+  return energy_before - after;
+}
+
+}  // namespace ism

@@ -1,0 +1,166 @@
+#pragma once
+// The map core in symmetric form (paper §3, §5; DESIGN.md §4): one MetaMesh
+// that both sides refine and optimise the same way. Either side may be an
+// embedded surface (metric from its 3D positions) or an abstract domain
+// (metric given per face), refined by the vertex splits of its progressive
+// mesh or never. Every operation edits the meta-mesh through one
+// transaction: stage the changed locations and edge records, check the
+// affected faces of both sides (cut_face: pieces positive on both sides,
+// tiling their faces, the same pieces from both sides), then commit or roll
+// back; the energy of the affected pieces before and after gives the exact
+// gain.
+//
+// Local operations (paper §5.1) work in a chart of a one-ring of one side:
+// each edge from the centre is developed over the other side's faces
+// (radii and angles of its image, the angles scaled to 2π when the image
+// wraps a vertex of the other side), the other side's content inside is
+// laid out in it and its edges redrawn straight, the centre (or, for a
+// split, the two new vertices) placed, the new edges drawn straight, and
+// their crossings mapped back by the split ratios on both edges. When the
+// chart is an isometric development of the other side (no vertex of the
+// other side inside, nothing bent) the energy is that of the one-ring's
+// triangles in the chart (the fast path); otherwise that of every piece.
+#include "map/meta_cut.hpp"
+#include "pm/pm.hpp"
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ism {
+
+/// One side of an InterSurfaceMap at the start: its base mesh, and what
+/// refines it.
+struct MapSideInput {
+  /// Faces of the base mesh over the side's full vertex numbering; base
+  /// vertex i is vertex base_vertices[i]. Base face f of side 0 and base
+  /// face f of side 1 must be the same face of base vertices.
+  std::vector<Triangle> base_faces;
+  std::vector<int> base_vertices;
+  std::size_t n_vertices = 0;
+  /// An embedded surface: every vertex's position (the metric follows).
+  std::vector<Vec3> positions;
+  /// An abstract domain (no positions): the metric of each base face.
+  std::vector<FaceLengths> base_lengths;
+  /// Vertex splits to replay, in order (empty: the side never refines).
+  std::vector<VertexSplit> splits;
+};
+
+/// A side from a progressive mesh (embedded surface, refined by its splits).
+MapSideInput side_from_pm(const ProgressiveMesh& pm);
+/// A side from an abstract domain that never refines (vertices 0..n-1).
+MapSideInput side_from_domain(const TriangleMesh& domain, std::vector<FaceLengths> lengths);
+
+struct InterSurfaceOptions {
+  /// Base vertices (the features) stay on each other; otherwise they are
+  /// released and move like any vertex (continuously: a vertex of one side
+  /// may leave the vertex of the other it sat on).
+  bool hold_features = false;
+  /// Weight of the inverse term (side 1 -> side 0) of the symmetric energy.
+  double inverse_weight = 1.0;
+};
+
+/// What the local operations did (for reports and tests).
+struct MapOperationStats {
+  std::size_t optimizations = 0;  // optimize_vertex calls that ran
+  std::size_t moves = 0;          // kept
+  std::size_t fast_path = 0;      // charts inside one face of the other side
+  std::size_t developed = 0;      // charts isometric over several faces
+  std::size_t general = 0;        // charts with the other side's vertices or bends inside
+  std::size_t rejected = 0;       // moves refused by the transaction's check
+  std::size_t splits = 0;
+};
+
+class InterSurfaceMap {
+ public:
+  /// The trivial map between the two base meshes (same connectivity, base
+  /// vertex i of one on base vertex i of the other, no crossing). Throws
+  /// std::invalid_argument if the base meshes differ or a metric is missing.
+  InterSurfaceMap(MapSideInput side0, MapSideInput side1, InterSurfaceOptions options = {});
+
+  const MetaMesh& meta() const { return meta_; }
+  const InterSurfaceOptions& options() const { return options_; }
+  /// Active vertices and faces of a side at its current resolution.
+  std::size_t n_vertices(int side) const { return active_[side]; }
+  std::size_t n_faces(int side) const { return meta_.side[side].faces.size(); }
+  bool is_active(int side, int v) const { return !index_[side].vertex_faces[v].empty(); }
+  bool is_pinned(int side, int v) const { return pinned_[side][v] != 0; }
+  std::size_t splits_applied(int side) const { return next_split_[side]; }
+  std::size_t splits_total(int side) const { return input_[side].splits.size(); }
+  /// Total area of a side's faces (its metric).
+  double area(int side) const { return area_[side]; }
+
+  /// Applies the next vertex split of a side: the new vertex and the split
+  /// vertex are placed inside the old one-ring. Returns the new vertex, or
+  /// -1 when the side is fully refined. Throws std::runtime_error if no
+  /// valid placement is found (never expected).
+  int split_next(int side);
+
+  /// Moves vertex v of `side` over the other side to lower the energy
+  /// (line searches inside the kernel of its one-ring in a chart); kept
+  /// only if the map stays valid and the energy drops. Returns the gain.
+  double optimize_vertex(int side, int v);
+
+  /// The one-ring of v, counter-clockwise.
+  std::vector<int> neighbours(int side, int v) const;
+
+  /// The energy over every piece (symmetric stretch, paper §5.2, with the
+  /// inverse term weighted by options().inverse_weight); efficiency 2 /
+  /// energy when that weight is 1.
+  double energy() const;
+  /// Energy of the pieces of some faces of one side.
+  double faces_energy(int side, const std::vector<int>& faces) const;
+  /// Checks the whole map from both sides (validate(const MetaMesh&)).
+  std::optional<std::string> validate() const;
+  MapMeasures measures() const;
+  const MapOperationStats& stats() const { return stats_; }
+
+ private:
+  struct Chart;
+  struct Layout;
+  struct Edit;
+  struct Proposal;
+
+  /// The chart of v's one-ring (false if the map there cannot be
+  /// developed, which leaves v where it is).
+  bool build_chart(int s, int v, Chart& chart) const;
+  /// The same with the ring starting at the face (v, start, *).
+  bool build_chart_from(int s, int v, int start, Chart& chart) const;
+  /// Each edge of vertex x of a side -> its direction around x, a full turn
+  /// scaled to 2π.
+  std::map<int, double> vertex_edge_angles(int side, int x) const;
+  /// The energy of the ring's faces with the inner vertices placed as in
+  /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
+  double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
+  /// Checks faces of side s (and the faces of the other side their pieces
+  /// lie in) after an edit; their energy when asked.
+  std::optional<std::string> check_faces(int s, const std::vector<int>& faces,
+                                         double* energy) const;
+  /// Stages a proposal on faces of side s, checks them and keeps it if
+  /// valid and, when `need_gain`, lower than `energy_before`; the gain, or
+  /// nothing (and the map unchanged).
+  std::optional<double> apply(int s, const std::vector<int>& faces, const Proposal& proposal,
+                              double energy_before, bool need_gain);
+
+  void set_location(int side, int v, const MetaLocation& loc, Edit* edit);
+  void set_breaks(int side, int e, std::vector<MetaCrossing> list, Edit* edit);
+  void rollback(Edit& edit);
+  FaceLengths face_lengths(int side, const Triangle& t) const;
+  double face_area(int side, int f) const;
+  std::vector<int> ring_faces(int side, int v) const;
+  int add_edge(int side, int u, int v);
+
+  MetaMesh meta_;
+  MetaIndex index_;
+  std::array<MapSideInput, 2> input_;
+  InterSurfaceOptions options_;
+  std::array<std::vector<char>, 2> pinned_;
+  std::array<std::size_t, 2> next_split_{0, 0}, active_{0, 0};
+  std::array<double, 2> area_{0, 0};
+  mutable MapOperationStats stats_;
+  mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
+};
+
+}  // namespace ism

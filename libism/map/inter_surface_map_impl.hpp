@@ -1,0 +1,96 @@
+#pragma once
+// Internal types of InterSurfaceMap shared by its source files.
+#include "map/inter_surface_map.hpp"
+
+#include <map>
+
+namespace ism {
+
+/// Undo log of one transaction.
+struct InterSurfaceMap::Edit {
+  struct OldList {
+    int side, edge;
+    std::vector<MetaCrossing> list;
+  };
+  struct OldLocation {
+    int side, vertex;
+    MetaLocation location;
+  };
+  std::vector<OldList> lists;
+  std::vector<OldLocation> locations;
+};
+
+/// What a local operation would write: new locations (index 0: vertices of
+/// the side being edited, located on the other; index 1: vertices of the
+/// other side, located in the edited side's faces) and new break lists of
+/// edges of the edited side (`lists`) and of the other side.
+struct InterSurfaceMap::Proposal {
+  std::array<std::vector<std::pair<int, MetaLocation>>, 2> locations;
+  std::vector<std::pair<int, std::vector<MetaCrossing>>> lists, other_lists;
+};
+
+/// A one-ring of side s around v laid out in a chart of the other side t.
+struct InterSurfaceMap::Chart {
+  int s = 0, t = 1, v = -1;
+  std::vector<int> faces, corner, ring;  // face i = (v, ring[i], ring[i+1]); corner of v in it
+  std::vector<int> spoke, boundary;      // edges (v, ring[i]) and (ring[i], ring[i+1])
+  std::vector<Vec2> w;                   // chart position of ring[i]
+  Vec2 centre = Vec2::Zero();            // chart position of v
+  enum Kind { fast, developed, general } kind = general;
+  int single_face = -1;  // fast: the face of t holding the whole ring (the chart is its layout)
+  /// Meta-vertices of t's content fixed in the chart: the ring's vertices
+  /// (ring_anchor[i]), the break points of the boundary edges, and t's
+  /// vertices inside (interior; a vertex of t under v sits at `centre`).
+  struct Anchor {
+    MetaNode node;
+    Vec2 pos;
+  };
+  std::vector<Anchor> anchors;
+  std::vector<int> ring_anchor, boundary_loop, interior;
+  int centre_anchor = -1;  // the vertex of t that v sits on, if any
+  /// A piece of an edge of t inside the ring, redrawn straight between two
+  /// anchors; its break points first..last-1 (crossings with the ring's
+  /// inner edges, kinks) are replaced.
+  struct Chord {
+    int a, b, edge;
+    double ta, tb;  // parameters along the edge at a and b
+    int first, last;
+  };
+  std::vector<Chord> chords;
+  /// The cells of t's content in the chart (for locating moved vertices):
+  /// corners in the chart and in t's face `face`.
+  struct Fragment {
+    std::vector<Vec2> chart, other;
+    int face;
+    /// Not convex on t: the map to t goes through a triangulation valid on
+    /// both (edges drawn straight across it bend at its diagonals: kinks).
+    bool convex = true;
+    std::vector<std::array<int, 3>> triangles;
+  };
+  std::vector<Fragment> fragments;
+};
+
+/// A placement of the region's inner vertices of s in a chart: the vertices
+/// (a moved vertex may sit on an anchor, e.g. on the vertex of t it sat on),
+/// the faces of s over ring positions and inner vertices, and the inner
+/// edges.
+struct InterSurfaceMap::Layout {
+  struct Inner {
+    int vertex;
+    Vec2 pos;
+    int on_anchor = -1;
+  };
+  std::vector<Inner> inner;
+  /// Chart point reference: r >= 0 is ring position r, r < 0 inner vertex -1 - r.
+  struct Tri {
+    int face;
+    std::array<int, 3> ref;  // in the order of the face's corners
+  };
+  std::vector<Tri> tris;
+  struct Spoke {
+    int a, b, edge;
+  };
+  std::vector<Spoke> spokes;
+};
+
+}  // namespace ism

@@ -1,0 +1,1203 @@
+// The local operations of InterSurfaceMap (paper §5.1): a one-ring of one
+// side laid out in a chart of the other, vertex optimisation by line
+// searches in the kernel of the ring, and vertex splits.
+#include "map/inter_surface_map.hpp"
+#include "map/inter_surface_map_impl.hpp"
+#include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace ism {
+
+namespace {
+
+using Layout3 = std::array<Vec2, 3>;
+
+double polygon_area(const std::vector<Vec2>& p) {
+  double a = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+    a += u.x() * v.y() - u.y() * v.x();
+  }
+  return 0.5 * a;
+}
+
+bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2 &a = poly[i], &b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
+      in = !in;
+  }
+  return in;
+}
+
+/// Mean-value interpolation (Floater 2003) at p of values given at the
+/// corners of a polygon around it.
+Vec2 mean_value(const std::vector<Vec2>& poly, const std::vector<Vec2>& value, const Vec2& p) {
+  const std::size_t n = poly.size();
+  std::vector<double> tan_half(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const Vec2 a = poly[j] - p, b = poly[(j + 1) % n] - p;
+    const double ra = a.norm(), rb = b.norm();
+    if (ra < 1e-300) return value[j];
+    const double cross = a.x() * b.y() - a.y() * b.x();
+    tan_half[j] = cross / (ra * rb + a.dot(b));
+  }
+  Vec2 sum = Vec2::Zero();
+  double total = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double w = (tan_half[(j + n - 1) % n] + tan_half[j]) / (poly[j] - p).norm();
+    sum += w * value[j];
+    total += w;
+  }
+  return sum / total;
+}
+
+/// The image on t of a chart point inside a fragment: mean-value
+/// interpolation in a convex one, affine on its triangles otherwise.
+template <class Fragment>
+Vec2 fragment_image(const Fragment& f, const Vec2& p) {
+  if (f.convex) return mean_value(f.chart, f.other, p);
+  Eigen::Vector3d best = Eigen::Vector3d::Constant(-HUGE_VAL);
+  std::array<int, 3> tri = f.triangles.front();
+  for (const auto& t : f.triangles) {
+    const Eigen::Vector3d b = barycentric(p, f.chart[t[0]], f.chart[t[1]], f.chart[t[2]]);
+    if (b.minCoeff() > best.minCoeff()) best = b, tri = t;
+  }
+  return best[0] * f.other[tri[0]] + best[1] * f.other[tri[1]] + best[2] * f.other[tri[2]];
+}
+
+/// Barycentric coordinates kept inside the face (rounding), summing to 1.
+Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
+  b = b.cwiseMax(1e-12);
+  return b / b.sum();
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- chart
+
+std::map<int, double> InterSurfaceMap::vertex_edge_angles(int side, int x) const {
+  // The directions of x's edges around it in its own metric, scaled so that
+  // a full turn is 2π.
+  const MetaSide& M = meta_.side[side];
+  const auto& around = index_[side].vertex_faces[x];
+  std::map<int, double> out;
+  if (around.empty()) return out;
+  auto corner_of = [&](int f) {
+    const Triangle& tri = M.faces[f];
+    return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
+  };
+  std::vector<std::pair<int, double>> fan;  // edge leaving x at the start of each face, angle
+  int f = around.front();
+  double angle = 0;
+  do {
+    const int c = corner_of(f);
+    fan.push_back({M.face_edges[f][c], angle});
+    const Layout3 L = meta_face_layout(M.lengths[f]);
+    const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
+    angle += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    const int last = M.faces[f][(c + 2) % 3];
+    int next = -1;
+    for (int g : around)
+      if (M.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
+    f = next;
+    if (f < 0 || fan.size() > around.size()) return {};
+  } while (f != around.front());
+  for (const auto& [e, a] : fan) out[e] = a * 2 * M_PI / angle;
+  return out;
+}
+
+bool InterSurfaceMap::build_chart(int s, int v, Chart& chart) const {
+  return build_chart_from(s, v, -1, chart);
+}
+
+bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) const {
+  chart = Chart{};
+  auto chart_fail = [&](int where) {
+    chart_failure_ = where;
+    return false;
+  };
+  const int t = 1 - s;
+  chart.s = s, chart.t = t, chart.v = v;
+  const MetaSide& S = meta_.side[s];
+  const MetaSide& T = meta_.side[t];
+  const MetaSideIndex& IS = index_[s];
+  const MetaSideIndex& IT = index_[t];
+  chart.faces = ring_faces(s, v);
+  const std::size_t m = chart.faces.size();
+  if (m < 3) return chart_fail(10);
+  if (start >= 0) {
+    std::size_t i0 = m;
+    for (std::size_t i = 0; i < m; ++i) {
+      const Triangle& f = S.faces[chart.faces[i]];
+      const int c = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+      if (f[(c + 1) % 3] == start) i0 = i;
+    }
+    if (i0 == m) return chart_fail(18);
+    std::rotate(chart.faces.begin(), chart.faces.begin() + i0, chart.faces.end());
+  }
+  for (int f : chart.faces) {
+    const Triangle& tri = S.faces[f];
+    const int c = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+    chart.corner.push_back(c);
+    chart.ring.push_back(tri[(c + 1) % 3]);
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    chart.spoke.push_back(IS.edge(v, chart.ring[i]));
+    chart.boundary.push_back(IS.edge(chart.ring[i], chart.ring[(i + 1) % m]));
+  }
+  const MetaLocation& vloc = S.location[v];
+
+  // Fast path: the ring and everything in it inside one face of t.
+  bool fast = vloc.face >= 0;
+  for (std::size_t i = 0; i < m && fast; ++i) {
+    const MetaLocation& loc = S.location[chart.ring[i]];
+    fast = loc.face == vloc.face && S.crossings[chart.spoke[i]].empty() &&
+           S.crossings[chart.boundary[i]].empty() && IS.residents[chart.faces[i]].empty();
+  }
+  if (fast) {
+    chart.kind = Chart::fast;
+    chart.single_face = vloc.face;
+    const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
+    auto at = [&](const Eigen::Vector3d& b) {
+      return Vec2(b[0] * L[0] + b[1] * L[1] + b[2] * L[2]);
+    };
+    chart.centre = at(vloc.bary);
+    for (std::size_t i = 0; i < m; ++i) {
+      chart.w.push_back(at(S.location[chart.ring[i]].bary));
+      chart.ring_anchor.push_back(int(chart.anchors.size()));
+      chart.boundary_loop.push_back(int(chart.anchors.size()));
+      chart.anchors.push_back({vertex_node(meta_, s, chart.ring[i]), chart.w.back()});
+    }
+    return true;
+  }
+
+  // The one-ring unfolding of paper §5.1: each neighbour at the length of
+  // its edge's image on t, the angles between them from the law of cosines
+  // on the images' lengths, scaled to sum to 2π. Where the ring's image is
+  // flat and its edges straight, this is the isometric development.
+  std::vector<int> faces_a, faces_b;
+  auto image_length = [&](int e, double& length, bool& bent) {
+    const auto& list = S.crossings[e];
+    const MetaNode a = vertex_node(meta_, s, S.edges[e][0]),
+                   b = vertex_node(meta_, s, S.edges[e][1]);
+    Place previous = a.place[t];
+    length = 0;
+    for (std::size_t k = 0; k <= list.size(); ++k) {
+      Place next = b.place[t];
+      if (k < list.size()) {
+        const auto node = break_node(meta_, s, e, int(k));
+        if (!node) return false;
+        next = node->place[t];
+        bent |= list[k].is_kink();
+      }
+      place_faces(meta_, index_, t, previous, faces_a);
+      place_faces(meta_, index_, t, next, faces_b);
+      bool found = false;
+      for (int f : faces_a)
+        if (!found && std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end()) {
+          const auto p = place_in_face(meta_, t, f, previous), q = place_in_face(meta_, t, f, next);
+          if (!p || !q) return false;
+          length += (*q - *p).norm();
+          found = true;
+        }
+      if (!found) return false;
+      previous = next;
+    }
+    return length > 0;
+  };
+  bool bent = false;
+  std::vector<double> radius(m), side(m);
+  for (std::size_t i = 0; i < m; ++i)
+    if (!image_length(chart.spoke[i], radius[i], bent) ||
+        !image_length(chart.boundary[i], side[i], bent))
+      return chart_fail(1);
+  // Directions: each edge as it leaves v (in the layout of v's face, or
+  // around the vertex of t that v sits on, its fan unwrapped); consecutive
+  // angles scaled to sum to 2π.
+  auto first_place = [&](std::size_t i) {
+    const int e = chart.spoke[i];
+    const auto& list = S.crossings[e];
+    const bool forward = S.edges[e][0] == v;
+    if (list.empty()) return std::optional<Place>(vertex_node(meta_, s, chart.ring[i]).place[t]);
+    const auto node = break_node(meta_, s, e, forward ? 0 : int(list.size()) - 1);
+    return node ? std::optional<Place>(node->place[t]) : std::nullopt;
+  };
+  std::vector<double> direction(m);
+  double cone = 2 * M_PI;
+  if (vloc.face >= 0) {
+    const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
+    chart.centre = vloc.bary[0] * L[0] + vloc.bary[1] * L[1] + vloc.bary[2] * L[2];
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto first = first_place(i);
+      if (!first) return chart_fail(3);
+      const auto q = place_in_face(meta_, t, vloc.face, *first);
+      if (!q) return chart_fail(4);
+      direction[i] = std::atan2((*q - chart.centre).y(), (*q - chart.centre).x());
+    }
+  } else {
+    const int x = vloc.vertex;
+    const auto& around = IT.vertex_faces[x];
+    auto corner_of = [&](int f) {
+      const Triangle& tri = T.faces[f];
+      return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
+    };
+    std::vector<int> fan{around.front()};
+    while (fan.size() < around.size()) {
+      const int f = fan.back();
+      const int last = T.faces[f][(corner_of(f) + 2) % 3];
+      int next = -1;
+      for (int g : around)
+        if (T.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
+      if (next < 0 || next == fan.front()) return chart_fail(5);
+      fan.push_back(next);
+    }
+    std::vector<double> start(fan.size() + 1, 0.0);
+    for (std::size_t j = 0; j < fan.size(); ++j) {
+      const int c = corner_of(fan[j]);
+      const Layout3 L = meta_face_layout(T.lengths[fan[j]]);
+      const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
+      start[j + 1] = start[j] + std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    }
+    cone = start.back();
+    chart.centre = Vec2::Zero();
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto first = first_place(i);
+      if (!first) return chart_fail(6);
+      // The fan face the edge leaves x through, and its angle there.
+      bool found = false;
+      for (std::size_t j = 0; j < fan.size() && !found; ++j) {
+        const int f = fan[j], c = corner_of(f);
+        const auto q = place_in_face(meta_, t, f, *first);
+        if (!q) continue;
+        if (first->kind == Place::vertex && first->index != T.faces[f][(c + 1) % 3]) continue;
+        if (first->kind == Place::edge && first->index != T.face_edges[f][(c + 1) % 3]) continue;
+        const Layout3 L = meta_face_layout(T.lengths[f]);
+        const Vec2 a = L[(c + 1) % 3] - L[c], d = *q - L[c];
+        direction[i] = start[j] + std::atan2(a.x() * d.y() - a.y() * d.x(), a.dot(d));
+        found = true;
+      }
+      if (!found) return chart_fail(7);
+    }
+  }
+  // Angles between consecutive edges: by the law of cosines on the lengths
+  // of their images (paper §5.1), or, where those lengths break the
+  // triangle inequality, as the edges leave v; scaled to sum to 2π, none
+  // reaching π (so the ring is star-shaped around v in the chart).
+  std::vector<double> theta(m);
+  double total = 0, local_total = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    double d = direction[(i + 1) % m] - direction[i];
+    d = std::fmod(std::fmod(d, cone) + cone, cone);
+    if (!(d > 0)) return chart_fail(8);
+    local_total += d;
+    const double r0 = radius[i], r1 = radius[(i + 1) % m], b = side[i];
+    const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
+    theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : d * 2 * M_PI / cone;
+    total += theta[i];
+  }
+  if (!(total > 0) || local_total > 2 * cone + 1e-9) return chart_fail(9);
+  bool rescale = vloc.face < 0 || std::abs(total - 2 * M_PI) > 1e-9;
+  for (double& a : theta) a *= 2 * M_PI / total;
+  for (int round = 0; round < 8; ++round) {
+    double excess = 0, room = 0;
+    for (double a : theta) {
+      excess += std::max(0.0, a - 0.95 * M_PI);
+      room += std::max(0.0, 0.95 * M_PI - a);
+    }
+    if (excess <= 0) break;
+    rescale = true;
+    for (double& a : theta)
+      a = a > 0.95 * M_PI ? 0.95 * M_PI : a + excess * (0.95 * M_PI - a) / room;
+  }
+  total = 2 * M_PI;
+  chart.w.resize(m);
+  double phi = vloc.face >= 0 ? direction[0] : 0.0;
+  for (std::size_t i = 0; i < m; ++i) {
+    chart.w[i] = chart.centre + radius[i] * Vec2(std::cos(phi), std::sin(phi));
+    phi += theta[i] * 2 * M_PI / total;
+  }
+
+  // Anchors: the ring's vertices and the break points of its boundary edges.
+  std::map<NodeKey, int> anchor_of;
+  auto add_anchor = [&](const MetaNode& node, const Vec2& pos) {
+    auto [it, added] = anchor_of.try_emplace(node.key, int(chart.anchors.size()));
+    if (added) chart.anchors.push_back({node, pos});
+    return it->second;
+  };
+  for (std::size_t i = 0; i < m; ++i) {
+    const int a = add_anchor(vertex_node(meta_, s, chart.ring[i]), chart.w[i]);
+    chart.ring_anchor.push_back(a);
+    chart.boundary_loop.push_back(a);
+    const int e = chart.boundary[i];
+    const auto& list = S.crossings[e];
+    const bool forward = S.edges[e][0] == chart.ring[i];
+    const Vec2 &p = chart.w[i], &q = chart.w[(i + 1) % m];
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const int n = int(forward ? k : list.size() - 1 - k);
+      if (list[n].is_kink()) bent = true;
+      const auto node = break_node(meta_, s, e, n);
+      if (!node) return chart_fail(227);
+      const double u = forward ? list[n].here : 1 - list[n].here;
+      chart.boundary_loop.push_back(add_anchor(*node, p + u * (q - p)));
+    }
+  }
+  // t's vertices inside: under v, and in the ring's faces (where their
+  // barycentric coordinates put them in the chart).
+  if (vloc.vertex >= 0) {
+    chart.centre_anchor = add_anchor(vertex_node(meta_, t, vloc.vertex), chart.centre);
+    chart.interior.push_back(chart.centre_anchor);
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    const int f = chart.faces[i], c = chart.corner[i];
+    std::array<Vec2, 3> corner;
+    corner[c] = chart.centre;
+    corner[(c + 1) % 3] = chart.w[i];
+    corner[(c + 2) % 3] = chart.w[(i + 1) % m];
+    for (int x : IS.residents[f]) {
+      const Eigen::Vector3d& b = T.location[x].bary;
+      chart.interior.push_back(add_anchor(vertex_node(meta_, t, x),
+                                          b[0] * corner[0] + b[1] * corner[1] + b[2] * corner[2]));
+    }
+  }
+
+  // Chords: the pieces of t's edges inside the ring, between anchors.
+  std::vector<int> edges;
+  for (const auto& anchor : chart.anchors) {
+    const Place& p = anchor.node.place[t];
+    if (p.kind == Place::edge) edges.push_back(p.index);
+    if (p.kind == Place::vertex)
+      edges.insert(edges.end(), IT.vertex_edges[p.index].begin(), IT.vertex_edges[p.index].end());
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<char> in_ring(S.faces.size(), 0);
+  for (int f : chart.faces) in_ring[f] = 1;
+  std::vector<MetaNode> points;
+
+  for (int g : edges) {
+    const auto& list = T.crossings[g];
+    const int n = int(list.size());
+    points.clear();
+    points.push_back(vertex_node(meta_, t, T.edges[g][0]));
+    for (int i = 0; i < n; ++i) {
+      const auto node = break_node(meta_, t, g, i);
+      if (!node) return chart_fail(271);
+      points.push_back(*node);
+    }
+    points.push_back(vertex_node(meta_, t, T.edges[g][1]));
+    auto param = [&](int j) { return j == 0 ? 0.0 : j == n + 1 ? 1.0 : list[j - 1].here; };
+    int run = -1;
+    for (int j = 0; j <= n; ++j) {
+      const Place &a = points[j].place[s], &b = points[j + 1].place[s];
+      bool inside = false;
+      if (a.kind == Place::vertex && b.kind == Place::vertex) {
+        inside = (a.index == v || b.index == v) && a.index != b.index;  // along a spoke
+      } else {
+        place_faces(meta_, index_, s, a, faces_a);
+        place_faces(meta_, index_, s, b, faces_b);
+        int common = 0, ring_face = 0;
+        for (int f : faces_a)
+          if (std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end())
+            ++common, ring_face += in_ring[f];
+        if (common > 1 && ring_face > 0) return chart_fail(288);  // along an edge inside the ring
+        inside = common == 1 && ring_face == 1;
+      }
+      if (inside && run < 0) run = j;
+      if (!inside || j == n) {
+        if (run >= 0) {
+          const int end = inside ? j + 1 : j;
+          const auto ia = anchor_of.find(points[run].key), ib = anchor_of.find(points[end].key);
+          if (ia == anchor_of.end() || ib == anchor_of.end() || ia->second == ib->second)
+            return chart_fail(296);
+          chart.chords.push_back({ia->second, ib->second, g, param(run), param(end), run, end - 1});
+          for (int k = run + 1; k < end; ++k)
+            if (list[k - 1].is_kink()) bent = true;
+          run = -1;
+        }
+      }
+    }
+  }
+
+  // The cells of t's content in the chart, each in one face of t: if the
+  // content folds where it is, its inner vertices are relaxed by mean-value
+  // weights (paper §5.1), and if it still folds, the ring is mapped to a
+  // convex polygon inscribed in a circle first.
+  auto make_fragments = [&]() {
+    chart.fragments.clear();
+    std::vector<Vec2> position;
+    for (const auto& a : chart.anchors) position.push_back(a.pos);
+    std::vector<std::array<int, 2>> segments;
+    const std::size_t nb = chart.boundary_loop.size();
+    for (std::size_t i = 0; i < nb; ++i)
+      segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
+    for (const auto& c : chart.chords) segments.push_back({c.a, c.b});
+    const auto cells = planar_cells(position, segments);
+    if (!cells) return false;
+    std::vector<int> common;
+    for (const auto& cell : *cells) {
+      Chart::Fragment fragment;
+      place_faces(meta_, index_, t, chart.anchors[cell[0]].node.place[t], common);
+      for (std::size_t i = 1; i < cell.size(); ++i) {
+        place_faces(meta_, index_, t, chart.anchors[cell[i]].node.place[t], faces_a);
+        std::erase_if(common, [&](int h) {
+          return std::find(faces_a.begin(), faces_a.end(), h) == faces_a.end();
+        });
+      }
+      fragment.face = -1;
+      for (int h : common) {
+        std::vector<Vec2> other;
+        for (int c : cell) {
+          const auto p = place_in_face(meta_, t, h, chart.anchors[c].node.place[t]);
+          if (!p) break;
+          other.push_back(*p);
+        }
+        if (other.size() != cell.size() || !(polygon_area(other) > 0)) continue;
+        fragment.face = h;
+        fragment.other = std::move(other);
+      }
+      if (fragment.face < 0) return false;
+      for (int c : cell) fragment.chart.push_back(position[c]);
+      const std::size_t n = cell.size();
+      const double tolerance = 1e-10 * polygon_area(fragment.other);
+      for (std::size_t i = 0; i < n && fragment.convex; ++i)
+        fragment.convex = orient(fragment.other[i], fragment.other[(i + 1) % n],
+                                 fragment.other[(i + 2) % n]) >= -tolerance;
+      if (!fragment.convex) {
+        MetaPiece both;
+        both.corner = {fragment.chart, fragment.other};
+        both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
+        fragment.triangles = triangulate_piece(both);
+        if (fragment.triangles.empty()) return false;
+      }
+      chart.fragments.push_back(std::move(fragment));
+    }
+    // The cells must tile the ring (no chord crossing another or the ring).
+    std::vector<Vec2> loop;
+    for (int a : chart.boundary_loop) loop.push_back(chart.anchors[a].pos);
+    double covered = 0;
+    for (const auto& f : chart.fragments) covered += polygon_area(f.chart);
+    const double ring_area = polygon_area(loop);
+    return ring_area > 0 && std::abs(covered - ring_area) <= 1e-9 * ring_area;
+  };
+  auto relax = [&]() {
+    if (chart.interior.empty()) return;
+    // Mean-value weights of each inner vertex x of t over the anchors its
+    // chords reach, from t's metric: angles at x (scaled to 2π) and lengths.
+    std::vector<int> slot(chart.anchors.size(), -1);
+    for (std::size_t k = 0; k < chart.interior.size(); ++k) slot[chart.interior[k]] = int(k);
+    std::vector<std::vector<std::pair<int, double>>> weights(chart.interior.size());
+    for (std::size_t k = 0; k < chart.interior.size(); ++k) {
+      const int xa = chart.interior[k];
+      const int x = chart.anchors[xa].node.place[t].index;
+      std::vector<std::pair<double, std::pair<int, double>>> spokes;  // angle, (anchor, length)
+      const auto angles = vertex_edge_angles(t, x);
+      for (const auto& c : chart.chords) {
+        if (c.a != xa && c.b != xa) continue;
+        const int other = c.a == xa ? c.b : c.a;
+        const auto it = angles.find(c.edge);
+        if (it == angles.end()) continue;
+        const int h =
+            IT.edge_faces[c.edge][0] >= 0 ? IT.edge_faces[c.edge][0] : IT.edge_faces[c.edge][1];
+        int kk = 0;
+        while (T.face_edges[h][kk] != c.edge) ++kk;
+        spokes.push_back({it->second, {other, std::abs(c.tb - c.ta) * T.lengths[h][kk]}});
+      }
+      std::sort(spokes.begin(), spokes.end());
+      const std::size_t n = spokes.size();
+      for (std::size_t j = 0; j < n; ++j) {
+        auto half_tan = [&](std::size_t i0, std::size_t i1) {
+          double a = spokes[i1].first - spokes[i0].first;
+          if (a <= 0) a += 2 * M_PI;
+          return std::tan(0.5 * std::min(a, M_PI - 1e-6));
+        };
+        const double w = (half_tan((j + n - 1) % n, j) + half_tan(j, (j + 1) % n)) /
+                         std::max(spokes[j].second.second, 1e-300);
+        weights[k].push_back({spokes[j].second.first, std::max(w, 1e-12)});
+      }
+    }
+    for (int iteration = 0; iteration < 200; ++iteration)
+      for (std::size_t k = 0; k < chart.interior.size(); ++k) {
+        if (weights[k].empty()) continue;
+        Vec2 sum = Vec2::Zero();
+        double total_w = 0;
+        for (const auto& [a, w] : weights[k]) sum += w * chart.anchors[a].pos, total_w += w;
+        chart.anchors[chart.interior[k]].pos = sum / total_w;
+      }
+  };
+  bool laid_out = make_fragments();
+  if (!laid_out && !chart.interior.empty()) {
+    relax();
+    laid_out = make_fragments();
+  }
+  if (!laid_out) {
+    // Convex: the ring's vertices on a circle at the chart's angles, the
+    // boundary's break points on the straight sides between them.
+    double mean_radius = 0;
+    for (std::size_t i = 0; i < m; ++i)
+      mean_radius += (chart.w[i] - chart.centre).norm() / double(m);
+    double angle = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec2 d = chart.w[i] - chart.centre;
+      if (i == 0) angle = std::atan2(d.y(), d.x());
+      chart.w[i] = chart.centre + mean_radius * Vec2(std::cos(angle), std::sin(angle));
+      const Vec2 d1 = chart.w[(i + 1) % m] - chart.centre;
+      double step = std::atan2(d.x() * d1.y() - d.y() * d1.x(), d.dot(d1));
+      if (step <= 0) step += 2 * M_PI;
+      angle += std::min(step, M_PI * 0.999);
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      chart.anchors[chart.ring_anchor[i]].pos = chart.w[i];
+      const int e = chart.boundary[i];
+      const bool forward = S.edges[e][0] == chart.ring[i];
+      for (const auto& a : chart.boundary_loop) {
+        const Place& p = chart.anchors[a].node.place[s];
+        if (p.kind != Place::edge || p.index != e) continue;
+        const double u = forward ? p.t : 1 - p.t;
+        chart.anchors[a].pos = chart.w[i] + u * (chart.w[(i + 1) % m] - chart.w[i]);
+      }
+    }
+    rescale = true;
+    relax();
+    laid_out = make_fragments();
+  }
+  if (!laid_out) return chart_fail(349);
+  if (chart.centre_anchor >= 0) chart.centre = chart.anchors[chart.centre_anchor].pos;
+  // Is the chart an isometric development of t around the ring? Then every
+  // cell of t's content is congruent to its image.
+  bool isometric = !rescale && !bent && chart.interior.empty();
+  for (const auto& fragment : chart.fragments) {
+    const auto &p = fragment.chart, &q = fragment.other;
+    for (std::size_t j = 1; j < p.size() && isometric; ++j)
+      for (std::size_t k : {std::size_t(0), (j + 1) % p.size()}) {
+        const double a = (p[j] - p[k]).norm(), b = (q[j] - q[k]).norm();
+        if (std::abs(a - b) > 1e-9 * (a + b)) isometric = false;
+      }
+  }
+  chart.kind = isometric ? Chart::developed : Chart::general;
+  return true;
+}
+
+// ---------------------------------------------------------------- evaluation
+
+double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Proposal* out) const {
+  const int s = chart.s, t = chart.t;
+  const MetaSide& S = meta_.side[s];
+  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
+  const std::size_t A = chart.anchors.size();
+  auto eval_fail = [&](int where) {
+    chart_failure_ = 1000 + where;
+    return HUGE_VAL;
+  };
+  // Chart points: anchors, then inner vertices that are not on an anchor.
+  std::vector<Vec2> pos;
+  pos.reserve(A + layout.inner.size() + 16);
+  for (const auto& a : chart.anchors) pos.push_back(a.pos);
+  std::vector<int> inner_node(layout.inner.size());
+  for (std::size_t k = 0; k < layout.inner.size(); ++k) {
+    if (layout.inner[k].on_anchor >= 0) {
+      inner_node[k] = layout.inner[k].on_anchor;
+    } else {
+      inner_node[k] = int(pos.size());
+      pos.push_back(layout.inner[k].pos);
+    }
+  }
+  auto node_of = [&](int ref) { return ref >= 0 ? chart.ring_anchor[ref] : inner_node[-1 - ref]; };
+
+  auto sides = [&](const std::array<Vec2, 3>& mine, const std::array<Vec2, 3>& theirs, double& e) {
+    e = s == 0 ? triangle_energy(mine, theirs, terms) : triangle_energy(theirs, mine, terms);
+  };
+  if (chart.kind != Chart::general && !out) {
+    double sum = 0;
+    for (const auto& tri : layout.tris) {
+      const std::array<Vec2, 3> L = meta_face_layout(S.lengths[tri.face]);
+      const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
+                                  pos[node_of(tri.ref[2])]};
+      double e;
+      sides(L, q, e);
+      sum += e;
+      if (!(sum < HUGE_VAL)) return eval_fail(31);
+    }
+    return sum;
+  }
+
+  // Where each point lies on t.
+  std::vector<Place> place(A);
+  for (std::size_t i = 0; i < A; ++i) place[i] = chart.anchors[i].node.place[t];
+  place.resize(pos.size());
+  for (std::size_t k = 0; k < layout.inner.size(); ++k) {
+    if (layout.inner[k].on_anchor >= 0) continue;
+    const Vec2& p = layout.inner[k].pos;
+    int face = -1;
+    Vec2 q;
+    if (chart.kind == Chart::fast) {
+      face = chart.single_face;
+      q = p;
+    } else {
+      for (const auto& fragment : chart.fragments)
+        if (inside_polygon(fragment.chart, p)) {
+          face = fragment.face;
+          q = fragment_image(fragment, p);
+          break;
+        }
+    }
+    if (face < 0) return eval_fail(56);
+    const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[face]);
+    const Eigen::Vector3d b = barycentric(q, L[0], L[1], L[2]);
+    if (b.minCoeff() < 1e-6) return eval_fail(96);  // too close to an edge of t
+    place[inner_node[k]] = {Place::face, face, 0, b / b.sum()};
+  }
+
+  // New crossings of the inner edges with the chords.
+  struct Hit {
+    double u;  // along the spoke
+    int node;
+    int chord;
+    double lambda;  // along the chord
+  };
+  std::vector<std::vector<Hit>> spoke_hits(layout.spokes.size());
+  std::vector<std::vector<std::pair<double, int>>> chord_hits(chart.chords.size());
+  std::vector<char> chord_used(chart.chords.size(), 1);
+  std::vector<std::array<int, 2>> segments;
+  std::vector<double> spoke_param;  // per new node: parameter along its spoke's edge
+  for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
+    const int na = node_of(layout.spokes[i].a), nb = node_of(layout.spokes[i].b);
+    const Vec2 P = pos[na], Q = pos[nb];
+    bool coincident = false;
+    for (std::size_t c = 0; c < chart.chords.size(); ++c) {
+      const auto& chord = chart.chords[c];
+      if ((chord.a == na && chord.b == nb) || (chord.a == nb && chord.b == na)) {
+        chord_used[c] = 0;  // the edge of t runs along this inner edge
+        coincident = true;
+      }
+    }
+    if (coincident) continue;
+    for (std::size_t c = 0; c < chart.chords.size(); ++c) {
+      const auto& chord = chart.chords[c];
+      if (chord.a == na || chord.a == nb || chord.b == na || chord.b == nb) continue;
+      const Vec2 &C = pos[chord.a], &D = pos[chord.b];
+      const double o1 = orient(P, Q, C), o2 = orient(P, Q, D);
+      if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0)) continue;
+      const double o3 = orient(C, D, P), o4 = orient(C, D, Q);
+      if ((o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) continue;
+      if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0) {
+        if (std::getenv("ISM_DEBUG"))
+          std::fprintf(
+              stderr,
+              "touch: spoke %d-%d (%g %g)-(%g %g) chord %d-%d (%g %g)-(%g %g) o %g %g %g %g\n", na,
+              nb, P.x(), P.y(), Q.x(), Q.y(), chord.a, chord.b, C.x(), C.y(), D.x(), D.y(), o1, o2,
+              o3, o4);
+        if (std::getenv("ISM_DEBUG")) {
+          std::fprintf(stderr, "  v %d ring:", chart.v);
+          for (std::size_t i = 0; i < chart.ring.size(); ++i)
+            std::fprintf(stderr, " %d(sp %d bd %d anchor %d)", chart.ring[i], chart.spoke[i],
+                         chart.boundary[i], chart.ring_anchor[i]);
+          std::fprintf(stderr, "\n  loop:");
+          for (int a : chart.boundary_loop) std::fprintf(stderr, " %d", a);
+          std::fprintf(stderr, "\n");
+        }
+        if (std::getenv("ISM_DEBUG"))
+          for (int a : {chord.a, chord.b}) {
+            const auto& nd = chart.anchors[a].node;
+            std::fprintf(stderr,
+                         "  anchor %d key %d %d %d %d place s %d %d %g place t %d %d %g; chord "
+                         "edge %d ta %g tb %g\n",
+                         a, nd.key.kind, nd.key.a, nd.key.b, nd.key.c, nd.place[s].kind,
+                         nd.place[s].index, nd.place[s].t, nd.place[t].kind, nd.place[t].index,
+                         nd.place[t].t, chord.edge, chord.ta, chord.tb);
+          }
+        return eval_fail(93);  // touching
+      }
+      const double u = o3 / (o3 - o4), lambda = o1 / (o1 - o2);
+      // Nearly through a vertex or an end: pieces of no size.
+      // Kept clear of ends and vertices (1e-6 relative): no piece of
+      // vanishing size, which later charts could not lay out.
+      if (u < 1e-6 || u > 1 - 1e-6 || lambda < 1e-6 || lambda > 1 - 1e-6) return eval_fail(94);
+      const int node = int(pos.size());
+      pos.push_back(P + u * (Q - P));
+      place.push_back({Place::edge, chord.edge, chord.ta + lambda * (chord.tb - chord.ta),
+                       Eigen::Vector3d::Zero()});
+      spoke_hits[i].push_back({u, node, int(c), lambda});
+      chord_hits[c].push_back({lambda, node});
+    }
+  }
+  // Each inner edge: its crossings in order, and kinks where it runs
+  // through a cell of t's content that is not convex on t (paper §5.1,
+  // Figure 4: there a straight segment on t could leave the cell, so the
+  // edge follows the cell's triangulation and bends at its diagonals).
+  std::vector<std::vector<std::pair<double, int>>> spoke_chain(layout.spokes.size());
+  std::vector<char> is_kink;
+  for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
+    auto& hits = spoke_hits[i];
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.u < b.u; });
+    auto& chain = spoke_chain[i];
+    const int na = node_of(layout.spokes[i].a), nb_ = node_of(layout.spokes[i].b);
+    chain.push_back({0.0, na});
+    for (const Hit& h : hits) chain.push_back({h.u, h.node});
+    chain.push_back({1.0, nb_});
+    if (chart.kind == Chart::general) {
+      const Vec2 P = pos[na], Q = pos[nb_];
+      std::vector<std::pair<double, int>> kinks;
+      for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
+        const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
+        for (const auto& fragment : chart.fragments) {
+          if (fragment.convex || !inside_polygon(fragment.chart, mid)) continue;
+          const std::size_t n = fragment.chart.size();
+          const Vec2 &A = pos[chain[j].second], &B = pos[chain[j + 1].second];
+          for (const auto& tri : fragment.triangles)
+            for (int k = 0; k < 3; ++k) {
+              const int c0 = tri[k], c1 = tri[(k + 1) % 3];
+              if (c0 > c1 || (c1 - c0) % int(n) == 1 || (c0 - c1 + int(n)) % int(n) == 1) continue;
+              const Vec2 &C = fragment.chart[c0], &D = fragment.chart[c1];
+              const double o1 = orient(A, B, C), o2 = orient(A, B, D);
+              const double o3 = orient(C, D, A), o4 = orient(C, D, B);
+              if (!(o1 * o2 < 0 && o3 * o4 < 0)) continue;
+              const double lambda = o1 / (o1 - o2);
+              const int node = int(pos.size());
+              const Vec2 x = C + lambda * (D - C);
+              pos.push_back(x);
+              const Vec2 image =
+                  fragment.other[c0] + lambda * (fragment.other[c1] - fragment.other[c0]);
+              const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
+              place.push_back({Place::face, fragment.face, 0,
+                               clamp_bary(barycentric(image, L[0], L[1], L[2]))});
+              kinks.push_back({(x - P).dot(Q - P) / (Q - P).squaredNorm(), node});
+            }
+          break;
+        }
+      }
+      chain.insert(chain.end() - 1, kinks.begin(), kinks.end());
+      std::sort(chain.begin(), chain.end());
+    }
+  }
+  std::vector<Place> s_place(pos.size());  // places on s of the new crossings and kinks
+  is_kink.assign(pos.size(), 0);
+  for (std::size_t i = 0; i < layout.spokes.size(); ++i)
+    for (const auto& [u, node] : spoke_chain[i])
+      if (node >= int(A + layout.inner.size()) && place[node].kind == Place::face)
+        is_kink[node] = 1;
+  const std::size_t nb = chart.boundary_loop.size();
+  for (std::size_t i = 0; i < nb; ++i)
+    segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
+  for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
+    const int e = layout.spokes[i].edge;
+    const int first_vertex = layout.spokes[i].a >= 0 ? chart.ring[layout.spokes[i].a]
+                                                     : layout.inner[-1 - layout.spokes[i].a].vertex;
+    const bool forward = S.edges[e][0] == first_vertex;
+    const auto& chain = spoke_chain[i];
+    for (std::size_t j = 0; j < chain.size(); ++j) {
+      if (j > 0 && j + 1 < chain.size())
+        s_place[chain[j].second] = {Place::edge, e, forward ? chain[j].first : 1 - chain[j].first,
+                                    Eigen::Vector3d::Zero()};
+      if (j > 0) segments.push_back({chain[j - 1].second, chain[j].second});
+    }
+  }
+  for (std::size_t c = 0; c < chart.chords.size(); ++c) {
+    if (!chord_used[c]) continue;
+    auto& hits = chord_hits[c];
+    std::sort(hits.begin(), hits.end());
+    int previous = chart.chords[c].a;
+    for (const auto& [lambda, node] : hits) {
+      segments.push_back({previous, node});
+      previous = node;
+    }
+    segments.push_back({previous, chart.chords[c].b});
+  }
+
+  const auto cells = planar_cells(pos, segments);
+  if (!cells) return eval_fail(134);
+  {
+    double covered = 0, ring_area = 0;
+    std::vector<Vec2> corners;
+    for (const auto& cell : *cells) {
+      corners.clear();
+      for (int c : cell) corners.push_back(pos[c]);
+      covered += polygon_area(corners);
+    }
+    corners.clear();
+    for (int a : chart.boundary_loop) corners.push_back(pos[a]);
+    ring_area = polygon_area(corners);
+    if (!(std::abs(covered - ring_area) <= 1e-9 * ring_area)) return eval_fail(300);  // not planar
+  }
+  // The face of s each triangle of the layout is, for locating cells.
+  std::vector<std::array<Vec2, 3>> tri_chart, tri_layout;
+  for (const auto& tri : layout.tris) {
+    tri_chart.push_back(
+        {pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])], pos[node_of(tri.ref[2])]});
+    tri_layout.push_back(meta_face_layout(S.lengths[tri.face]));
+    if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
+      return eval_fail(140);
+  }
+  auto tri_of = [&](const Vec2& p) {
+    int best = -1;
+    double depth = -1e-12;
+    for (std::size_t i = 0; i < tri_chart.size(); ++i) {
+      const Eigen::Vector3d b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]);
+      if (b.minCoeff() > depth) depth = b.minCoeff(), best = int(i);
+    }
+    return best;
+  };
+  double sum = 0;
+  std::vector<int> common, faces;
+  for (const auto& cell : *cells) {
+    // A point inside the cell: the centroid of an ear.
+    const std::size_t n = cell.size();
+    Vec2 inside = Vec2::Zero();
+    bool found = false;
+    for (std::size_t i = 0; i < n && !found; ++i) {
+      const Vec2 &a = pos[cell[(i + n - 1) % n]], &b = pos[cell[i]], &c = pos[cell[(i + 1) % n]];
+      if (!(orient(a, b, c) > 0)) continue;
+      bool ear = true;
+      for (std::size_t j = 0; j < n && ear; ++j) {
+        if (j == i || j == (i + 1) % n || j == (i + n - 1) % n) continue;
+        const Vec2& p = pos[cell[j]];
+        if (orient(a, b, p) > 0 && orient(b, c, p) > 0 && orient(c, a, p) > 0) ear = false;
+      }
+      if (ear) inside = (a + b + c) / 3, found = true;
+    }
+    if (!found) return eval_fail(169);
+    const int ti = tri_of(inside);
+    if (ti < 0) return eval_fail(171);
+    MetaPiece piece;
+    const auto& tc = tri_chart[ti];
+    const auto& tl = tri_layout[ti];
+    for (int c : cell) {
+      const Eigen::Vector3d b = barycentric(pos[c], tc[0], tc[1], tc[2]);
+      piece.corner[s].push_back(b[0] * tl[0] + b[1] * tl[1] + b[2] * tl[2]);
+    }
+    piece.face[s] = layout.tris[ti].face;
+    piece.area[s] = polygon_area(piece.corner[s]);
+    if (!(piece.area[s] > 0)) return eval_fail(181);
+    // The face of t holding it.
+    place_faces(meta_, index_, t, place[cell[0]], common);
+    for (std::size_t i = 1; i < n && common.size() > 1; ++i) {
+      place_faces(meta_, index_, t, place[cell[i]], faces);
+      std::erase_if(common,
+                    [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
+    }
+    int h_found = -1;
+    for (int h : common) {
+      std::vector<Vec2> other;
+      for (int c : cell) {
+        const auto p = place_in_face(meta_, t, h, place[c]);
+        if (!p) break;
+        other.push_back(*p);
+      }
+      if (other.size() != n) continue;
+      const double a = polygon_area(other);
+      if (!(a > 0)) continue;
+      h_found = h;
+      piece.face[t] = h;
+      piece.corner[t] = std::move(other);
+      piece.area[t] = a;
+      break;
+    }
+    if (h_found < 0) {
+      if (std::getenv("ISM_DEBUG")) {
+        std::fprintf(stderr,
+                     "cell with no face on t (kind %d), %zu corners, common:", int(chart.kind), n);
+        for (int h : common) std::fprintf(stderr, " %d", h);
+        std::fprintf(stderr, "\n");
+        for (int c : cell) {
+          std::fprintf(stderr, "  node %d chart %.6g %.6g place %d %d %.4g", c, pos[c].x(),
+                       pos[c].y(), int(place[c].kind), place[c].index, place[c].t);
+          for (int h : common) {
+            const auto q = place_in_face(meta_, t, h, place[c]);
+            if (q) std::fprintf(stderr, " [%d: %.6g %.6g]", h, q->x(), q->y());
+          }
+          std::fprintf(stderr, "\n");
+        }
+      }
+      return eval_fail(205);
+    }
+    sum += piece_energy(piece, terms);
+    if (!(sum < HUGE_VAL)) {
+      if (std::getenv("ISM_DEBUG")) {
+        std::fprintf(stderr, "piece with no triangulation, %zu corners:\n", n);
+        for (std::size_t i = 0; i < n; ++i)
+          std::fprintf(stderr, "  %.6g %.6g | %.6g %.6g\n", piece.corner[0][i].x(),
+                       piece.corner[0][i].y(), piece.corner[1][i].x(), piece.corner[1][i].y());
+      }
+      return eval_fail(207);
+    }
+  }
+  if (!out) return sum;
+
+  // What to write.
+  *out = Proposal{};
+  for (std::size_t k = 0; k < layout.inner.size(); ++k) {
+    if (layout.inner[k].on_anchor >= 0) continue;
+    const Place& p = place[inner_node[k]];
+    out->locations[0].push_back({layout.inner[k].vertex, MetaLocation{-1, p.index, p.bary}});
+  }
+  for (int a : chart.interior) {
+    bool sat_on = false;
+    for (const auto& in : layout.inner) sat_on |= in.on_anchor == a;
+    if (sat_on) continue;
+    const int ti = tri_of(pos[a]);
+    if (ti < 0) return eval_fail(223);
+    const auto& tc = tri_chart[ti];
+    if (barycentric(pos[a], tc[0], tc[1], tc[2]).minCoeff() < 1e-6) return eval_fail(224);
+    out->locations[1].push_back(
+        {chart.anchors[a].node.place[t].index,
+         MetaLocation{-1, layout.tris[ti].face,
+                      clamp_bary(barycentric(pos[a], tc[0], tc[1], tc[2]))}});
+  }
+  for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
+    std::vector<MetaCrossing> list;
+    for (const Hit& h : spoke_hits[i])
+      list.push_back({chart.chords[h.chord].edge, s_place[h.node].t, place[h.node].t});
+    for (const auto& [u, node] : spoke_chain[i])
+      if (node < int(is_kink.size()) && is_kink[node])
+        list.push_back({-1, s_place[node].t, 0, place[node].index, place[node].bary});
+    std::sort(list.begin(), list.end(),
+              [](const auto& a, const auto& b) { return a.here < b.here; });
+    out->lists.push_back({layout.spokes[i].edge, std::move(list)});
+  }
+  // Each chord's break points replaced by its new crossings.
+  std::vector<int> order(chart.chords.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = int(c);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto &x = chart.chords[a], &y = chart.chords[b];
+    return x.edge != y.edge ? x.edge < y.edge
+                            : std::min(x.first, x.last) > std::min(y.first, y.last);
+  });
+  for (std::size_t k = 0; k < order.size();) {
+    const int g = chart.chords[order[k]].edge;
+    std::vector<MetaCrossing> list = meta_.side[t].crossings[g];
+    for (; k < order.size() && chart.chords[order[k]].edge == g; ++k) {
+      const int c = order[k];
+      const auto& chord = chart.chords[c];
+      const int lo = std::min(chord.first, chord.last), hi = std::max(chord.first, chord.last);
+      std::vector<MetaCrossing> fresh;
+      for (const auto& [lambda, node] : chord_hits[c]) {
+        // Which spoke: the one whose hits hold this node.
+        for (std::size_t i = 0; i < layout.spokes.size(); ++i)
+          for (const Hit& h : spoke_hits[i])
+            if (h.node == node)
+              fresh.push_back({layout.spokes[i].edge, place[node].t, s_place[node].t});
+      }
+      list.erase(list.begin() + lo, list.begin() + hi);
+      list.insert(list.begin() + lo, fresh.begin(), fresh.end());
+    }
+    std::sort(list.begin(), list.end(),
+              [](const auto& a, const auto& b) { return a.here < b.here; });
+    out->other_lists.push_back({g, std::move(list)});
+  }
+  return sum;
+}
+
+// ---------------------------------------------------------------- operations
+
+double InterSurfaceMap::optimize_vertex(int s, int v) {
+  if (pinned_[s][v] || !is_active(s, v)) return 0.0;
+  Chart chart;
+  if (!build_chart(s, v, chart)) return 0.0;
+  ++stats_.optimizations;
+  ++(chart.kind == Chart::fast        ? stats_.fast_path
+     : chart.kind == Chart::developed ? stats_.developed
+                                      : stats_.general);
+  const std::size_t m = chart.faces.size();
+  Layout layout;
+  layout.inner.push_back({v, chart.centre, -1});
+  for (std::size_t i = 0; i < m; ++i) {
+    std::array<int, 3> ref;
+    const int c = chart.corner[i];
+    ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
+    layout.tris.push_back({chart.faces[i], ref});
+    layout.spokes.push_back({-1, int(i), chart.spoke[i]});
+  }
+  const double before = faces_energy(s, chart.faces);
+  if (!(before < HUGE_VAL)) return 0.0;
+  auto energy = [&](const Vec2& p) {
+    layout.inner[0].pos = p;
+    layout.inner[0].on_anchor =
+        chart.centre_anchor >= 0 && p == chart.centre ? chart.centre_anchor : -1;
+    return evaluate(chart, layout, nullptr);
+  };
+  Vec2 p = chart.centre;
+  const double e = minimize_in_kernel(chart.w, p, energy);
+  if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
+  layout.inner[0].pos = p;
+  layout.inner[0].on_anchor = -1;
+  Proposal proposal;
+  if (!(evaluate(chart, layout, &proposal) < HUGE_VAL)) return 0.0;
+  const auto gain = apply(s, chart.faces, proposal, before, true);
+  if (!gain) {
+    ++stats_.rejected;
+    return 0.0;
+  }
+  ++stats_.moves;
+  return *gain;
+}
+
+int InterSurfaceMap::add_edge(int s, int u, int v) {
+  MetaSide& side = meta_.side[s];
+  const int e = int(side.edges.size());
+  side.edges.push_back({std::min(u, v), std::max(u, v)});
+  side.crossings.emplace_back();
+  index_[s].edge_of[undirected_edge_key(u, v)] = e;
+  index_[s].edge_faces.push_back({-1, -1});
+  index_[s].vertex_edges[u].push_back(e);
+  index_[s].vertex_edges[v].push_back(e);
+  return e;
+}
+
+int InterSurfaceMap::split_next(int s) {
+  if (next_split_[s] >= input_[s].splits.size()) return -1;
+  const VertexSplit& sp = input_[s].splits[next_split_[s]];
+  const std::string where = std::string(s == 0 ? "M¹" : "M²") + " split " +
+                            std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
+                            " from " + std::to_string(sp.vt) + ")";
+  Chart chart;
+  if (!build_chart_from(s, sp.vt, sp.vl, chart))
+    throw std::runtime_error(where + ": no chart of the ring (" + std::to_string(chart_failure_) +
+                             ")");
+  const std::size_t m = chart.faces.size();
+  std::size_t last = m;
+  for (std::size_t i = 1; i < m; ++i)
+    if (chart.ring[i] == sp.vr) last = i;
+  if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
+
+  // Connectivity: the faces from vl to vr go to vs, two new faces.
+  MetaSide& S = meta_.side[s];
+  MetaSideIndex& IS = index_[s];
+  const int vt = sp.vt, vs = sp.vs;
+  for (std::size_t i = 1; i < last; ++i) {
+    // Edge (vt, w) becomes (vs, w): same records, renamed.
+    const int e = chart.spoke[i], w = chart.ring[i];
+    IS.edge_of.erase(undirected_edge_key(vt, w));
+    const bool flip = (vt < w) != (vs < w);
+    S.edges[e] = {std::min(vs, w), std::max(vs, w)};
+    IS.edge_of[undirected_edge_key(vs, w)] = e;
+    std::erase(IS.vertex_edges[vt], e);
+    IS.vertex_edges[vs].push_back(e);
+    if (flip) {
+      auto& list = S.crossings[e];
+      std::reverse(list.begin(), list.end());
+      std::vector<int> others;
+      for (auto& c : list) {
+        c.here = 1 - c.here;
+        if (!c.is_kink()) others.push_back(c.edge);
+      }
+      std::sort(others.begin(), others.end());
+      others.erase(std::unique(others.begin(), others.end()), others.end());
+      for (int g : others)
+        for (auto& o : meta_.side[1 - s].crossings[g])
+          if (o.edge == e) o.there = 1 - o.there;
+    }
+  }
+  for (std::size_t i = 0; i < last; ++i) {
+    const int f = chart.faces[i];
+    area_[s] -= face_area(s, f);
+    S.faces[f][chart.corner[i]] = vs;
+    if (!S.positions.empty()) S.lengths[f] = face_lengths(s, S.faces[f]);
+    area_[s] += face_area(s, f);
+    std::erase(IS.vertex_faces[vt], f);
+    IS.vertex_faces[vs].push_back(f);
+  }
+  const int e_vl = add_edge(s, vs, sp.vl), e_vr = add_edge(s, vs, sp.vr),
+            e_vt = add_edge(s, vs, vt);
+  const int fa = int(S.faces.size()), fb = fa + 1;
+  for (const Triangle& tri : {Triangle{vs, vt, sp.vl}, Triangle{vt, vs, sp.vr}}) {
+    S.faces.push_back(tri);
+    S.lengths.push_back(S.positions.empty() ? FaceLengths{1, 1, 1} : face_lengths(s, tri));
+    S.face_edges.push_back({});
+    IS.residents.emplace_back();
+    for (int x : tri) IS.vertex_faces[x].push_back(int(S.faces.size()) - 1);
+    area_[s] += face_area(s, int(S.faces.size()) - 1);
+  }
+  std::vector<int> changed(chart.faces.begin(), chart.faces.end());
+  changed.push_back(fa), changed.push_back(fb);
+  for (int f : changed)
+    for (int k = 0; k < 3; ++k) {
+      const int u = S.faces[f][k], w = S.faces[f][(k + 1) % 3];
+      const int e = IS.edge(u, w);
+      S.face_edges[f][k] = e;
+      IS.edge_faces[e][u == S.edges[e][0] ? 0 : 1] = f;
+    }
+  ++active_[s];
+  ++next_split_[s];
+  ++stats_.splits;
+  pinned_[s][vs] = 0;
+
+  // Placement: vt stays, vs in the middle of the kernel of its new ring.
+  Layout layout;
+  layout.inner.push_back({vs, chart.centre, -1});
+  layout.inner.push_back({vt, chart.centre, chart.centre_anchor});
+  for (std::size_t i = 0; i < m; ++i) {
+    std::array<int, 3> ref;
+    const int c = chart.corner[i];
+    ref[c] = i < last ? -1 : -2, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
+    layout.tris.push_back({chart.faces[i], ref});
+  }
+  layout.tris.push_back({fa, {-1, -2, 0}});
+  layout.tris.push_back({fb, {-2, -1, int(last)}});
+  for (std::size_t i = 0; i <= last; ++i)
+    layout.spokes.push_back({-1, int(i), i == 0 ? e_vl : i == last ? e_vr : chart.spoke[i]});
+  for (std::size_t i = last; i <= m; ++i)
+    layout.spokes.push_back({-2, int(i % m), chart.spoke[i % m]});
+  layout.spokes.push_back({-1, -2, e_vt});
+
+  // Candidate places for vs: the middle of the kernel of its new ring, and
+  // the middles of the triangles (vt, w_j, w_j+1) it takes over, each also
+  // drawn towards vt; the valid one of lowest energy wins.
+  std::vector<Vec2> polygon(chart.w.begin(), chart.w.begin() + last + 1);
+  polygon.push_back(chart.centre);
+  std::vector<Vec2> candidates;
+  if (const std::optional<Vec2> kernel = kernel_centroid(polygon)) candidates.push_back(*kernel);
+  for (std::size_t j = 0; j < last; ++j)
+    candidates.push_back((chart.centre + chart.w[j] + chart.w[j + 1]) / 3);
+  const std::size_t n_base = candidates.size();
+  for (int k = 1; k <= 8; ++k)
+    for (std::size_t c = 0; c < n_base; ++c)
+      candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
+  double best = HUGE_VAL;
+  Vec2 best_pos = chart.centre;
+  if (std::getenv("ISM_DEBUG")) {
+    double fa = 0;
+    for (const auto& f : chart.fragments) fa += polygon_area(f.chart);
+    std::fprintf(
+        stderr,
+        "split chart: ring area %g fragments %zu area %g interior %zu chords %zu centre %g %g\n",
+        polygon_area(chart.w), chart.fragments.size(), fa, chart.interior.size(),
+        chart.chords.size(), chart.centre.x(), chart.centre.y());
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto& loc = meta_.side[s].location[chart.ring[i]];
+      std::fprintf(stderr, "  w %g %g ring %d loc v%d f%d (%g %g %g) spoke %d breaks %zu\n",
+                   chart.w[i].x(), chart.w[i].y(), chart.ring[i], loc.vertex, loc.face, loc.bary[0],
+                   loc.bary[1], loc.bary[2], chart.spoke[i],
+                   meta_.side[s].crossings[chart.spoke[i]].size());
+    }
+    const auto& loc = meta_.side[s].location[chart.v];
+    std::fprintf(stderr, "  v %d loc v%d f%d (%g %g %g)\n", chart.v, loc.vertex, loc.face,
+                 loc.bary[0], loc.bary[1], loc.bary[2]);
+  }
+  for (const Vec2& c : candidates) {
+    if (!inside_polygon(polygon, c)) continue;
+    layout.inner[0].pos = c;
+    const double e = evaluate(chart, layout, nullptr);
+    if (std::getenv("ISM_DEBUG"))
+      std::fprintf(stderr, "candidate %g %g: %g (%d) kind %d\n", c.x(), c.y(), e, chart_failure_,
+                   int(chart.kind));
+    if (e < best) best = e, best_pos = c;
+  }
+  if (best < HUGE_VAL) {
+    layout.inner[0].pos = best_pos;
+    Proposal proposal;
+    if (evaluate(chart, layout, &proposal) < HUGE_VAL && apply(s, changed, proposal, 0, false))
+      return vs;
+    chart_failure_ = 5000;
+  }
+  throw std::runtime_error(where + ": no valid placement of the new vertex (" +
+                           std::to_string(chart_failure_) + ")");
+}
+
+}  // namespace ism
