@@ -66,6 +66,7 @@ struct InterSurfaceMap::Chart {
     /// both (edges drawn straight across it bend at its diagonals: kinks).
     bool convex = true;
     std::vector<std::array<int, 3>> triangles;
+    std::vector<Vec2> tri_chart, tri_other;  // the points the triangles refer to
   };
   std::vector<Fragment> fragments;
 };

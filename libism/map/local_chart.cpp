@@ -67,10 +67,12 @@ Vec2 fragment_image(const Fragment& f, const Vec2& p) {
   Eigen::Vector3d best = Eigen::Vector3d::Constant(-HUGE_VAL);
   std::array<int, 3> tri = f.triangles.front();
   for (const auto& t : f.triangles) {
-    const Eigen::Vector3d b = barycentric(p, f.chart[t[0]], f.chart[t[1]], f.chart[t[2]]);
+    const Eigen::Vector3d b =
+        barycentric(p, f.tri_chart[t[0]], f.tri_chart[t[1]], f.tri_chart[t[2]]);
     if (b.minCoeff() > best.minCoeff()) best = b, tri = t;
   }
-  return best[0] * f.other[tri[0]] + best[1] * f.other[tri[1]] + best[2] * f.other[tri[2]];
+  return best[0] * f.tri_other[tri[0]] + best[1] * f.tri_other[tri[1]] +
+         best[2] * f.tri_other[tri[2]];
 }
 
 /// Barycentric coordinates kept inside the face (rounding), summing to 1.
@@ -476,6 +478,9 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
         both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
         fragment.triangles = triangulate_piece(both);
         if (fragment.triangles.empty()) return false;
+        const auto points = piece_points(both, fragment.triangles);
+        fragment.tri_chart = points[0];
+        fragment.tri_other = points[1];
       }
       chart.fragments.push_back(std::move(fragment));
     }
@@ -749,13 +754,15 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
         for (const auto& fragment : chart.fragments) {
           if (fragment.convex || !inside_polygon(fragment.chart, mid)) continue;
-          const std::size_t n = fragment.chart.size();
-          const Vec2 &A = pos[chain[j].second], &B = pos[chain[j + 1].second];
+          const int n = int(fragment.chart.size());
+          const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
           for (const auto& tri : fragment.triangles)
             for (int k = 0; k < 3; ++k) {
               const int c0 = tri[k], c1 = tri[(k + 1) % 3];
-              if (c0 > c1 || (c1 - c0) % int(n) == 1 || (c0 - c1 + int(n)) % int(n) == 1) continue;
-              const Vec2 &C = fragment.chart[c0], &D = fragment.chart[c1];
+              const bool side =
+                  c0 < n && c1 < n && ((c1 - c0 + n) % n == 1 || (c0 - c1 + n) % n == 1);
+              if (c0 > c1 || side) continue;
+              const Vec2 &C = fragment.tri_chart[c0], &D = fragment.tri_chart[c1];
               const double o1 = orient(A, B, C), o2 = orient(A, B, D);
               const double o3 = orient(C, D, A), o4 = orient(C, D, B);
               if (!(o1 * o2 < 0 && o3 * o4 < 0)) continue;
@@ -763,8 +770,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
               const int node = int(pos.size());
               const Vec2 x = C + lambda * (D - C);
               pos.push_back(x);
-              const Vec2 image =
-                  fragment.other[c0] + lambda * (fragment.other[c1] - fragment.other[c0]);
+              const Vec2 image = fragment.tri_other[c0] +
+                                 lambda * (fragment.tri_other[c1] - fragment.tri_other[c0]);
               const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
               place.push_back({Place::face, fragment.face, 0,
                                clamp_bary(barycentric(image, L[0], L[1], L[2]))});

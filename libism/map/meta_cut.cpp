@@ -1,6 +1,7 @@
 #include "map/meta_cut.hpp"
 
 #include "map/piece_cdt.hpp"
+#include "map/surface_map.hpp"  // kernel_centroid
 #include "metrics/metrics.hpp"
 
 #include <algorithm>
@@ -452,9 +453,9 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
     for (int j = 1; j + 1 < n; ++j) out.push_back({best, (best + j) % n, (best + j + 1) % n});
     return out;
   }
-  // A star around the mean of the corners (index n, the same point of the
-  // piece on both sides): pieces with long runs of collinear corners on both
-  // sides, where no fan is valid.
+  // A star around one point of the piece (index n: on each side the
+  // centroid of the polygon's kernel, the two mapped to each other): pieces
+  // with runs of collinear corners on both sides, where no fan is valid.
   {
     const Vec2 cp = piece_point(piece, 0, n), cq = piece_point(piece, 1, n);
     bool ok = true;
@@ -484,9 +485,22 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
 Vec2 piece_point(const MetaPiece& piece, int side, int i) {
   const auto& c = piece.corner[side];
   if (i < int(c.size())) return c[i];
+  if (const std::optional<Vec2> k = kernel_centroid(c)) return *k;
   Vec2 sum = Vec2::Zero();
   for (const Vec2& p : c) sum += p;
   return sum / double(c.size());
+}
+
+std::array<std::vector<Vec2>, 2> piece_points(const MetaPiece& piece,
+                                              const std::vector<std::array<int, 3>>& triangles) {
+  std::array<std::vector<Vec2>, 2> out{piece.corner[0], piece.corner[1]};
+  const int n = int(piece.corner[0].size());
+  for (const auto& t : triangles)
+    if (t[0] == n || t[1] == n || t[2] == n) {
+      for (int side = 0; side < 2; ++side) out[side].push_back(piece_point(piece, side, n));
+      break;
+    }
+  return out;
 }
 
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
@@ -513,10 +527,9 @@ double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double for
   const auto triangles = triangulate_piece(piece);
   if (triangles.empty()) return HUGE_VAL;
   double sum = 0;
-  auto p = [&](int i) { return piece_point(piece, 0, i); };
-  auto q = [&](int i) { return piece_point(piece, 1, i); };
+  const auto [p, q] = piece_points(piece, triangles);
   for (const auto& t : triangles)
-    sum += triangle_energy({p(t[0]), p(t[1]), p(t[2])}, {q(t[0]), q(t[1]), q(t[2])}, terms,
+    sum += triangle_energy({p[t[0]], p[t[1]], p[t[2]]}, {q[t[0]], q[t[1]], q[t[2]]}, terms,
                            forward_weight);
   return sum;
 }

@@ -100,8 +100,8 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
 /// A triangulation of a piece by its corner indices, counter-clockwise and
 /// of positive area in both layouts: the fan whose worst triangle is best
 /// when one works (always for a piece convex on both sides without
-/// collinear corners); else a star around the mean of the corners (index n
-/// = the number of corners, piece_point) if it works on both sides; else
+/// collinear corners); else a star around a point inside (index n = the
+/// number of corners, piece_point) if it works on both sides; else
 /// the constrained Delaunay triangulation of one side's polygon if it is
 /// valid on the other. Empty if none is. `cdt` tells whether the last was
 /// used. Depends only on the piece's corners, so it is the same from
@@ -123,8 +123,13 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 /// Corner i of a piece on a side, or for i = the number of corners the
-/// mean of the corners (the centre of a star triangulation).
+/// centre of a star triangulation: the centroid of the polygon's kernel
+/// (the mean of the corners if it has none).
 Vec2 piece_point(const MetaPiece& piece, int side, int i);
+/// The points a triangulation of the piece refers to, on each side: its
+/// corners, and the star centre when a triangle uses it.
+std::array<std::vector<Vec2>, 2> piece_points(const MetaPiece& piece,
+                                              const std::vector<std::array<int, 3>>& triangles);
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
 
 }  // namespace ism

@@ -173,10 +173,10 @@ MapMeasures measures(std::span<const MetaPiece> all) {
     return TriangleLengths{(c - b).norm(), (a - c).norm(), (b - a).norm()};
   };
   for (const MetaPiece& piece : all) {
-    auto p = [&](int i) { return piece_point(piece, 0, i); };
-    auto q = [&](int i) { return piece_point(piece, 1, i); };
-    for (const auto& t : triangulate_piece(piece))
-      pieces.push_back({lengths(p(t[0]), p(t[1]), p(t[2])), lengths(q(t[0]), q(t[1]), q(t[2]))});
+    const auto triangles = triangulate_piece(piece);
+    const auto [p, q] = piece_points(piece, triangles);
+    for (const auto& t : triangles)
+      pieces.push_back({lengths(p[t[0]], p[t[1]], p[t[2]]), lengths(q[t[0]], q[t[1]], q[t[2]])});
   }
   if (pieces.empty()) return {};
   const SymmetricStretch s = symmetric_stretch(pieces);

@@ -13,7 +13,10 @@ MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
   if (!pieces) throw std::invalid_argument("MetaMeshSampler: the meta-mesh does not validate");
   pieces_ = std::move(*pieces);
   triangles_.reserve(pieces_.size());
-  for (const MetaPiece& piece : pieces_) triangles_.push_back(triangulate_piece(piece));
+  for (const MetaPiece& piece : pieces_) {
+    triangles_.push_back(triangulate_piece(piece));
+    points_.push_back(piece_points(piece, triangles_.back()));
+  }
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
     const std::size_t nf = side.faces.size();
@@ -66,22 +69,19 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
   std::size_t best_triangle = 0;
   Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
   for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
-    const MetaPiece& candidate = pieces_[g.items[k]];
+    const auto& q = points_[g.items[k]][m];
     const auto& tris = triangles_[g.items[k]];
     for (std::size_t j = 0; j < tris.size(); ++j) {
       const auto& t = tris[j];
-      const Eigen::Vector3d b =
-          barycentric(p, piece_point(candidate, m, t[0]), piece_point(candidate, m, t[1]),
-                      piece_point(candidate, m, t[2]));
+      const Eigen::Vector3d b = barycentric(p, q[t[0]], q[t[1]], q[t[2]]);
       if (b.minCoeff() > in.minCoeff()) in = b, best = g.items[k], best_triangle = j;
     }
   }
   if (best < 0 || in.minCoeff() < -1e-9) return std::nullopt;
   const MetaPiece& piece = pieces_[best];
   const auto& t = triangles_[best][best_triangle];
-  const Vec2 image = in[0] * piece_point(piece, 1 - m, t[0]) +
-                     in[1] * piece_point(piece, 1 - m, t[1]) +
-                     in[2] * piece_point(piece, 1 - m, t[2]);
+  const auto& r = points_[best][1 - m];
+  const Vec2 image = in[0] * r[t[0]] + in[1] * r[t[1]] + in[2] * r[t[2]];
   const int other = piece.face[1 - m];
   const auto& lo = layout_[1 - m][other];
   Eigen::Vector3d out = barycentric(image, lo[0], lo[1], lo[2]).cwiseMax(0.0);

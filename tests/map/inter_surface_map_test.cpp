@@ -64,6 +64,19 @@ TEST(InterSurfaceMap, TrivialMapOfTwoBasesIsValid) {
   EXPECT_EQ(map.n_faces(1), 8u);
 }
 
+TEST(InterSurfaceMap, SmallPairIsDeterministic) {
+  const TriangleMesh a = shapes::sphere(100), b = shapes::blob(120, 5);
+  const ProgressiveMesh pa = octahedral_pm(a), pb = octahedral_pm(b);
+  std::array<double, 2> energy{};
+  for (int run = 0; run < 2; ++run) {
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+    refine_both_checked(map, 10, 7);
+    if (HasFatalFailure()) return;
+    energy[run] = map.energy();
+  }
+  EXPECT_EQ(energy[0], energy[1]);
+}
+
 TEST(InterSurfaceMap, BothSidesRefineSphereAndBlob) {
   const TriangleMesh a = shapes::sphere(300), b = shapes::blob(400, 3);
   const ProgressiveMesh pa = octahedral_pm(a), pb = octahedral_pm(b);

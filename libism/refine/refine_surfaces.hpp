@@ -1,0 +1,40 @@
+#pragma once
+// Coarse-to-fine refinement of an InterSurfaceMap on both sides (paper §5):
+// the vertex splits of both progressive meshes are replayed, the side that
+// is less refined (as a fraction of its splits) next, so both reach full
+// resolution together; after each split the new vertex and its neighbours
+// are optimised; whenever the vertices of both sides together have grown by
+// `sweep_growth`, every vertex of both sides is; final sweeps at full
+// resolution until the relative gain is small.
+#include "map/inter_surface_map.hpp"
+
+#include <functional>
+
+namespace ism {
+
+struct SurfaceRefineOptions {
+  double sweep_growth = 1.5;
+  int max_level_sweeps = 2;
+  int max_final_sweeps = 4;
+  double final_relative_gain = 1e-3;
+  /// Splits of one side in a row before the other side's turn (the paper
+  /// refines one side for a number of steps, then swaps); 1 interleaves.
+  std::size_t block = 1;
+  /// validate() after every operation (for tests; slow). Throws
+  /// std::runtime_error naming the operation that broke the map.
+  bool validate_each_step = false;
+  std::function<void(double)> progress;  // fraction of all splits done
+};
+
+struct SurfaceRefineStats {
+  std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
+  double energy = 0;
+};
+
+/// Refines both sides to full resolution.
+SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
+
+/// One optimisation of every active vertex of both sides; the energy gained.
+double surfaces_sweep(InterSurfaceMap& map, bool validate_each_step = false);
+
+}  // namespace ism
