@@ -2,7 +2,7 @@
 // symmetric map core): each surface partitioned against the octahedron,
 // both progressive meshes replayed together, the symmetric stretch
 // optimised on both; validation from both sides and the measures.
-//   inter_surface_map [A.obj B.obj] [--faces N] [--validate-each-step]
+//   inter_surface_map [A.obj B.obj [--decimate V]] [--faces N] [--validate-each-step]
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "domain/domain.hpp"
@@ -23,12 +23,15 @@
 int main(int argc, char** argv) {
   std::vector<std::string> files;
   int faces = 1000;
+  std::size_t decimate = 0;
   bool each = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
       each = true;
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--decimate") == 0 && i + 1 < argc)
+      decimate = std::size_t(std::atol(argv[++i]));
     else
       files.push_back(argv[i]);
   }
@@ -51,6 +54,10 @@ int main(int argc, char** argv) {
   } else {
     a = ism::prepare_mesh(ism::io::read_polygon_soup(files[0])).mesh;
     b = ism::prepare_mesh(ism::io::read_polygon_soup(files[1])).mesh;
+    if (decimate > 0) {
+      a = ism::base_mesh(ism::simplify_to(a, decimate));
+      b = ism::base_mesh(ism::simplify_to(b, decimate));
+    }
   }
   lap("input");
   const ism::TriangleMesh octahedron = ism::domain::octahedron();

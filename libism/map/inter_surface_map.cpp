@@ -6,6 +6,8 @@
 #include "metrics/metrics.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <stdexcept>
 
@@ -218,8 +220,9 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   for (const auto& [e, list] : proposal.lists) set_breaks(s, e, list, &edit);
   for (const auto& [g, list] : proposal.other_lists) set_breaks(1 - s, g, list, &edit);
   double after = 0;
-  if (check_faces(s, faces, &after) || !(after < HUGE_VAL) ||
-      (need_gain && !(after < energy_before * (1 - 1e-12)))) {
+  const auto problem = check_faces(s, faces, &after);
+  if (problem && std::getenv("ISM_DEBUG")) std::fprintf(stderr, "check: %s\n", problem->c_str());
+  if (problem || !(after < HUGE_VAL) || (need_gain && !(after < energy_before * (1 - 1e-12)))) {
     rollback(edit);
     return std::nullopt;
   }

@@ -71,6 +71,7 @@ struct MapOperationStats {
   std::size_t general = 0;        // charts with the other side's vertices or bends inside
   std::size_t rejected = 0;       // moves refused by the transaction's check
   std::size_t splits = 0;
+  std::size_t splits_in_place = 0;  // splits that needed the in-place fallback
 };
 
 class InterSurfaceMap {
@@ -127,7 +128,14 @@ class InterSurfaceMap {
   /// developed, which leaves v where it is).
   bool build_chart(int s, int v, Chart& chart) const;
   /// The same with the ring starting at the face (v, start, *).
-  bool build_chart_from(int s, int v, int start, Chart& chart) const;
+  /// (With `ring_only`, only the ring's faces, vertices and edges.)
+  bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
+  /// The fallback of a split (after its connectivity change): vs placed a
+  /// fraction eps along one of vt's old edges it took over, its new edges
+  /// to vl and vr copies of vt's shifted by eps; false if that cannot be
+  /// set up.
+  bool split_in_place(const Chart& chart, std::size_t last, int vs, int e_vl, int e_vr, double eps,
+                      Proposal& out) const;
   /// Each edge of vertex x of a side -> its direction around x, a full turn
   /// scaled to 2π.
   std::map<int, double> vertex_edge_angles(int side, int x) const;

@@ -62,8 +62,9 @@ struct InterSurfaceMap::Chart {
   struct Fragment {
     std::vector<Vec2> chart, other;
     int face;
-    /// Not convex on t: the map to t goes through a triangulation valid on
-    /// both (edges drawn straight across it bend at its diagonals: kinks).
+    /// Whether its map to t is one affine map; otherwise the map goes
+    /// through a triangulation valid on both (edges drawn straight across
+    /// it bend at its diagonals: kinks).
     bool convex = true;
     std::vector<std::array<int, 3>> triangles;
     std::vector<Vec2> tri_chart, tri_other;  // the points the triangles refer to
@@ -92,6 +93,10 @@ struct InterSurfaceMap::Layout {
     int a, b, edge;
   };
   std::vector<Spoke> spokes;
+  /// How close (relative) a new crossing may come to an end of its edges
+  /// and a moved vertex to an edge of the other side: optional moves keep
+  /// clear of near-degenerate pieces; a split must place its vertex.
+  double clearance = 1e-6;
 };
 
 }  // namespace ism

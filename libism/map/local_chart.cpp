@@ -5,8 +5,11 @@
 #include "map/inter_surface_map_impl.hpp"
 #include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -120,7 +123,8 @@ bool InterSurfaceMap::build_chart(int s, int v, Chart& chart) const {
   return build_chart_from(s, v, -1, chart);
 }
 
-bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) const {
+bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
+                                       bool ring_only) const {
   chart = Chart{};
   auto chart_fail = [&](int where) {
     chart_failure_ = where;
@@ -155,6 +159,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
     chart.spoke.push_back(IS.edge(v, chart.ring[i]));
     chart.boundary.push_back(IS.edge(chart.ring[i], chart.ring[(i + 1) % m]));
   }
+  if (ring_only) return true;
   const MetaLocation& vloc = S.location[v];
 
   // Fast path: the ring and everything in it inside one face of t.
@@ -442,7 +447,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
       segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
     for (const auto& c : chart.chords) segments.push_back({c.a, c.b});
     const auto cells = planar_cells(position, segments);
-    if (!cells) return false;
+    if (!cells) return chart_fail(401);
     std::vector<int> common;
     for (const auto& cell : *cells) {
       Chart::Fragment fragment;
@@ -465,19 +470,42 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
         fragment.face = h;
         fragment.other = std::move(other);
       }
-      if (fragment.face < 0) return false;
+      if (fragment.face < 0) return chart_fail(402);
       for (int c : cell) fragment.chart.push_back(position[c]);
+      // Affine: the cell's map to t is one affine map (the chart is a true
+      // development here); otherwise edges crossing it follow a
+      // triangulation valid on both and bend at its diagonals.
       const std::size_t n = cell.size();
-      const double tolerance = 1e-10 * polygon_area(fragment.other);
-      for (std::size_t i = 0; i < n && fragment.convex; ++i)
-        fragment.convex = orient(fragment.other[i], fragment.other[(i + 1) % n],
-                                 fragment.other[(i + 2) % n]) >= -tolerance;
+      if (n > 3) {
+        const auto& P = fragment.chart;
+        const auto& Q = fragment.other;
+        std::size_t k = 2;
+        while (k < n && std::abs(orient(P[0], P[1], P[k])) <= 1e-9 * polygon_area(P)) ++k;
+        if (k == n) {
+          fragment.convex = false;
+        } else {
+          const double scale = std::sqrt(polygon_area(Q));
+          for (std::size_t i = 0; i < n && fragment.convex; ++i) {
+            const Eigen::Vector3d b = barycentric(P[i], P[0], P[1], P[k]);
+            fragment.convex =
+                (b[0] * Q[0] + b[1] * Q[1] + b[2] * Q[k] - Q[i]).norm() <= 1e-9 * scale;
+          }
+        }
+      }
       if (!fragment.convex) {
         MetaPiece both;
         both.corner = {fragment.chart, fragment.other};
         both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
         fragment.triangles = triangulate_piece(both);
-        if (fragment.triangles.empty()) return false;
+        if (fragment.triangles.empty()) {
+          if (std::getenv("ISM_DEBUG")) {
+            std::fprintf(stderr, "fragment with no triangulation (%zu corners):\n", n);
+            for (std::size_t i = 0; i < n; ++i)
+              std::fprintf(stderr, "  %.9g %.9g | %.9g %.9g\n", fragment.chart[i].x(),
+                           fragment.chart[i].y(), fragment.other[i].x(), fragment.other[i].y());
+          }
+          return chart_fail(403);
+        }
         const auto points = piece_points(both, fragment.triangles);
         fragment.tri_chart = points[0];
         fragment.tri_other = points[1];
@@ -490,14 +518,19 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
     double covered = 0;
     for (const auto& f : chart.fragments) covered += polygon_area(f.chart);
     const double ring_area = polygon_area(loop);
-    return ring_area > 0 && std::abs(covered - ring_area) <= 1e-9 * ring_area;
+    if (!(ring_area > 0 && std::abs(covered - ring_area) <= 1e-9 * ring_area))
+      return chart_fail(410);
+    return true;
   };
   auto relax = [&]() {
     if (chart.interior.empty()) return;
     // Mean-value weights of each inner vertex x of t over the anchors its
     // chords reach, from t's metric: angles at x (scaled to 2π) and lengths.
+    // The vertex of t under v stays where v is (the ring is star-shaped
+    // around that point).
     std::vector<int> slot(chart.anchors.size(), -1);
-    for (std::size_t k = 0; k < chart.interior.size(); ++k) slot[chart.interior[k]] = int(k);
+    for (std::size_t k = 0; k < chart.interior.size(); ++k)
+      if (chart.interior[k] != chart.centre_anchor) slot[chart.interior[k]] = int(k);
     std::vector<std::vector<std::pair<int, double>>> weights(chart.interior.size());
     for (std::size_t k = 0; k < chart.interior.size(); ++k) {
       const int xa = chart.interior[k];
@@ -528,14 +561,28 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
         weights[k].push_back({spokes[j].second.first, std::max(w, 1e-12)});
       }
     }
-    for (int iteration = 0; iteration < 200; ++iteration)
-      for (std::size_t k = 0; k < chart.interior.size(); ++k) {
-        if (weights[k].empty()) continue;
-        Vec2 sum = Vec2::Zero();
-        double total_w = 0;
-        for (const auto& [a, w] : weights[k]) sum += w * chart.anchors[a].pos, total_w += w;
-        chart.anchors[chart.interior[k]].pos = sum / total_w;
+    // Each inner vertex at the weighted mean of its neighbours: one linear
+    // system (a Tutte embedding when the boundary is convex).
+    const int ni = int(chart.interior.size());
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(ni, ni);
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ni, 2);
+    for (int k = 0; k < ni; ++k) {
+      if (weights[k].empty() || chart.interior[k] == chart.centre_anchor) {
+        M(k, k) = 1;
+        rhs.row(k) = chart.anchors[chart.interior[k]].pos.transpose();
+        continue;
       }
+      for (const auto& [a, w] : weights[k]) {
+        M(k, k) += w;
+        if (slot[a] >= 0)
+          M(k, slot[a]) -= w;
+        else
+          rhs.row(k) += w * chart.anchors[a].pos.transpose();
+      }
+    }
+    const Eigen::MatrixXd x = M.partialPivLu().solve(rhs);
+    if (!x.allFinite()) return;
+    for (int k = 0; k < ni; ++k) chart.anchors[chart.interior[k]].pos = x.row(k).transpose();
   };
   bool laid_out = make_fragments();
   if (!laid_out && !chart.interior.empty()) {
@@ -573,7 +620,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart) co
     relax();
     laid_out = make_fragments();
   }
-  if (!laid_out) return chart_fail(349);
+  if (!laid_out) return false;
   if (chart.centre_anchor >= 0) chart.centre = chart.anchors[chart.centre_anchor].pos;
   // Is the chart an isometric development of t around the ring? Then every
   // cell of t's content is congruent to its image.
@@ -656,7 +703,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     if (face < 0) return eval_fail(56);
     const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[face]);
     const Eigen::Vector3d b = barycentric(q, L[0], L[1], L[2]);
-    if (b.minCoeff() < 1e-6) return eval_fail(96);  // too close to an edge of t
+    if (b.minCoeff() < layout.clearance) return eval_fail(96);  // too close to an edge of t
     place[inner_node[k]] = {Place::face, face, 0, b / b.sum()};
   }
 
@@ -724,7 +771,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // Nearly through a vertex or an end: pieces of no size.
       // Kept clear of ends and vertices (1e-6 relative): no piece of
       // vanishing size, which later charts could not lay out.
-      if (u < 1e-6 || u > 1 - 1e-6 || lambda < 1e-6 || lambda > 1 - 1e-6) return eval_fail(94);
+      const double clear = layout.clearance;
+      if (u < clear || u > 1 - clear || lambda < clear || lambda > 1 - clear) return eval_fail(94);
       const int node = int(pos.size());
       pos.push_back(P + u * (Q - P));
       place.push_back({Place::edge, chord.edge, chord.ta + lambda * (chord.tb - chord.ta),
@@ -842,9 +890,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
       return eval_fail(140);
   }
+  // The face whose chart triangle holds p, or is nearest to holding it (a
+  // cell on a ring edge that bends outwards pokes out of its triangle).
   auto tri_of = [&](const Vec2& p) {
     int best = -1;
-    double depth = -1e-12;
+    double depth = -HUGE_VAL;
     for (std::size_t i = 0; i < tri_chart.size(); ++i) {
       const Eigen::Vector3d b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]);
       if (b.minCoeff() > depth) depth = b.minCoeff(), best = int(i);
@@ -876,6 +926,15 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const auto& tc = tri_chart[ti];
     const auto& tl = tri_layout[ti];
     for (int c : cell) {
+      // Anchors on the ring's edges: exactly where their records put them.
+      if (c < int(A) && chart.anchors[c].node.place[s].kind == Place::edge) {
+        const auto exact =
+            place_in_face(meta_, s, layout.tris[ti].face, chart.anchors[c].node.place[s]);
+        if (exact) {
+          piece.corner[s].push_back(*exact);
+          continue;
+        }
+      }
       const Eigen::Vector3d b = barycentric(pos[c], tc[0], tc[1], tc[2]);
       piece.corner[s].push_back(b[0] * tl[0] + b[1] * tl[1] + b[2] * tl[2]);
     }
@@ -951,7 +1010,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const int ti = tri_of(pos[a]);
     if (ti < 0) return eval_fail(223);
     const auto& tc = tri_chart[ti];
-    if (barycentric(pos[a], tc[0], tc[1], tc[2]).minCoeff() < 1e-6) return eval_fail(224);
+    if (barycentric(pos[a], tc[0], tc[1], tc[2]).minCoeff() < layout.clearance)
+      return eval_fail(224);
     out->locations[1].push_back(
         {chart.anchors[a].node.place[t].index,
          MetaLocation{-1, layout.tris[ti].face,
@@ -999,6 +1059,136 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     out->other_lists.push_back({g, std::move(list)});
   }
   return sum;
+}
+
+// ---------------------------------------------------------------- splits in place
+
+bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int vs, int e_vl,
+                                     int e_vr, double eps, Proposal& out) const {
+  // After the connectivity change: the edges (vs, ring[i]), 0 < i < last,
+  // are vt's old edges renamed, with their records. vs goes a fraction eps
+  // along the first segment of one of them (or into the wedge of face 0
+  // when there is none); the new edges (vs, vl) and (vs, vr) follow (vt,
+  // vl) and (vt, vr) shifted by eps to vs's side. For eps small enough this
+  // is the old map with two slivers added, hence valid.
+  const int s = chart.s, t = chart.t, vt = chart.v;
+  const MetaSide& S = meta_.side[s];
+  const MetaSide& T = meta_.side[t];
+  out = Proposal{};
+  // Where a vertex of s sits on t, and an edge's first break from a vertex.
+  auto vertex_place = [&](int v) { return vertex_node(meta_, s, v).place[t]; };
+  auto first_place = [&](int e, int from) -> std::optional<Place> {
+    const auto& list = S.crossings[e];
+    const int to = S.edges[e][0] == from ? S.edges[e][1] : S.edges[e][0];
+    if (list.empty()) return vertex_place(to);
+    const auto node = break_node(meta_, s, e, S.edges[e][0] == from ? 0 : int(list.size()) - 1);
+    if (!node) return std::nullopt;
+    return node->place[t];
+  };
+  // A face of t holding vt and a place.
+  const Place pt = vertex_place(vt);
+  std::vector<int> faces_a, faces_b;
+  auto common_face = [&](const Place& a, const Place& b) {
+    place_faces(meta_, index_, t, a, faces_a);
+    place_faces(meta_, index_, t, b, faces_b);
+    for (int f : faces_a)
+      if (std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end()) {
+        if (a.kind == Place::vertex && b.kind == Place::vertex) continue;  // along an edge of t
+        return f;
+      }
+    return -1;
+  };
+  int face = -1;
+  Vec2 target;
+  for (std::size_t j = 1; j < last && face < 0; ++j) {
+    const auto first = first_place(chart.spoke[j], vs);
+    if (!first) continue;
+    const int f = common_face(pt, *first);
+    if (f < 0) continue;
+    const Vec2 a = *place_in_face(meta_, t, f, pt), b = *place_in_face(meta_, t, f, *first);
+    face = f, target = a + eps * (b - a);
+  }
+  if (face < 0) {
+    const auto f0 = first_place(chart.spoke[0], vt), f1 = first_place(chart.spoke[last], vt);
+    if (!f0 || !f1) return false;
+    const int f = common_face(pt, *f0);
+    if (f < 0) return false;
+    const Vec2 a = *place_in_face(meta_, t, f, pt), b = *place_in_face(meta_, t, f, *f0);
+    const auto c = place_in_face(meta_, t, f, *f1);
+    Vec2 d = (b - a).normalized();
+    if (c && orient(a, b, *c) > 0)
+      d = 0.5 * (d + (*c - a).normalized());
+    else
+      d = Eigen::Rotation2Dd(1e-3) * d;  // just inside the wedge, counter-clockwise of (vt, vl)
+    face = f, target = a + eps * (b - a).norm() * d;
+  }
+  const std::array<Vec2, 3> L = meta_face_layout(T.lengths[face]);
+  const Eigen::Vector3d bary = barycentric(target, L[0], L[1], L[2]);
+  if (!(bary.minCoeff() > 0)) return false;
+  out.locations[0].push_back({vs, MetaLocation{-1, face, bary / bary.sum()}});
+
+  // (vs, vl) and (vs, vr): copies of vt's edges, shifted to vs's side
+  // (left of vt -> vl, right of vt -> vr).
+  std::map<int, std::vector<MetaCrossing>> other;
+  for (int k = 0; k < 2; ++k) {
+    const int old_edge = chart.spoke[k == 0 ? 0 : last], w = chart.ring[k == 0 ? 0 : last];
+    const int new_edge = k == 0 ? e_vl : e_vr;
+    const double side = k == 0 ? 1.0 : -1.0;
+    const auto& list = S.crossings[old_edge];
+    const bool forward = S.edges[old_edge][0] == vt;
+    const bool new_forward = S.edges[new_edge][0] == vs;
+    std::vector<MetaCrossing> copy;
+    Place previous = pt;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::size_t n = forward ? i : list.size() - 1 - i;
+      const MetaCrossing& c = list[n];
+      const double u = forward ? c.here : 1 - c.here;  // along vt -> w
+      const auto node = break_node(meta_, s, old_edge, int(n));
+      if (!node) return false;
+      const Place here = node->place[t];
+      const int f = common_face(previous, here);
+      if (f < 0) return false;
+      const Vec2 p0 = *place_in_face(meta_, t, f, previous), p1 = *place_in_face(meta_, t, f, here);
+      const Vec2 dir = p1 - p0;
+      if (c.is_kink()) {
+        const std::array<Vec2, 3> Lk = meta_face_layout(T.lengths[c.face]);
+        const Vec2 at = c.bary[0] * Lk[0] + c.bary[1] * Lk[1] + c.bary[2] * Lk[2];
+        const Vec2 shifted = at + side * eps * Vec2(-dir.y(), dir.x());
+        const Eigen::Vector3d b = barycentric(shifted, Lk[0], Lk[1], Lk[2]);
+        if (!(b.minCoeff() > 0)) return false;
+        copy.push_back({-1, new_forward ? u : 1 - u, 0, c.face, b / b.sum()});
+      } else {
+        // Along the crossed edge g towards vs's side, by eps of the way
+        // to the nearest other break point on g in that direction.
+        const int g = c.edge;
+        const Vec2 ga =
+            *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][0], 0, Eigen::Vector3d::Zero()});
+        const Vec2 gb =
+            *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][1], 0, Eigen::Vector3d::Zero()});
+        const double cross = dir.x() * (gb - ga).y() - dir.y() * (gb - ga).x();
+        const double sign = (cross > 0) == (side > 0) ? 1.0 : -1.0;
+        const auto& glist = other.count(g) ? other[g] : T.crossings[g];
+        double room = sign > 0 ? 1 - c.there : c.there;
+        for (const auto& o : glist)
+          if ((o.here - c.there) * sign > 0) room = std::min(room, std::abs(o.here - c.there));
+        const double there = c.there + sign * eps * room;
+        copy.push_back({g, new_forward ? u : 1 - u, there});
+        auto& target_list = other.try_emplace(g, T.crossings[g]).first->second;
+        target_list.push_back({new_edge, there, new_forward ? u : 1 - u});
+      }
+      previous = here;
+    }
+    std::sort(copy.begin(), copy.end(),
+              [](const auto& a, const auto& b) { return a.here < b.here; });
+    out.lists.push_back({new_edge, std::move(copy)});
+    (void)w;
+  }
+  for (auto& [g, list] : other) {
+    std::sort(list.begin(), list.end(),
+              [](const auto& a, const auto& b) { return a.here < b.here; });
+    out.other_lists.push_back({g, std::move(list)});
+  }
+  return true;
 }
 
 // ---------------------------------------------------------------- operations
@@ -1064,9 +1254,9 @@ int InterSurfaceMap::split_next(int s) {
                             std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
                             " from " + std::to_string(sp.vt) + ")";
   Chart chart;
-  if (!build_chart_from(s, sp.vt, sp.vl, chart))
-    throw std::runtime_error(where + ": no chart of the ring (" + std::to_string(chart_failure_) +
-                             ")");
+  const bool charted = build_chart_from(s, sp.vt, sp.vl, chart);
+  if (!charted && !build_chart_from(s, sp.vt, sp.vl, chart, true))
+    throw std::runtime_error(where + ": the ring of the vertex to split is not a closed fan");
   const std::size_t m = chart.faces.size();
   std::size_t last = m;
   for (std::size_t i = 1; i < m; ++i)
@@ -1145,6 +1335,7 @@ int InterSurfaceMap::split_next(int s) {
     ref[c] = i < last ? -1 : -2, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
     layout.tris.push_back({chart.faces[i], ref});
   }
+  layout.clearance = 1e-8;
   layout.tris.push_back({fa, {-1, -2, 0}});
   layout.tris.push_back({fb, {-2, -1, int(last)}});
   for (std::size_t i = 0; i <= last; ++i)
@@ -1156,52 +1347,65 @@ int InterSurfaceMap::split_next(int s) {
   // Candidate places for vs: the middle of the kernel of its new ring, and
   // the middles of the triangles (vt, w_j, w_j+1) it takes over, each also
   // drawn towards vt; the valid one of lowest energy wins.
-  std::vector<Vec2> polygon(chart.w.begin(), chart.w.begin() + last + 1);
-  polygon.push_back(chart.centre);
-  std::vector<Vec2> candidates;
-  if (const std::optional<Vec2> kernel = kernel_centroid(polygon)) candidates.push_back(*kernel);
-  for (std::size_t j = 0; j < last; ++j)
-    candidates.push_back((chart.centre + chart.w[j] + chart.w[j + 1]) / 3);
-  const std::size_t n_base = candidates.size();
-  for (int k = 1; k <= 8; ++k)
-    for (std::size_t c = 0; c < n_base; ++c)
-      candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
-  double best = HUGE_VAL;
-  Vec2 best_pos = chart.centre;
-  if (std::getenv("ISM_DEBUG")) {
-    double fa = 0;
-    for (const auto& f : chart.fragments) fa += polygon_area(f.chart);
-    std::fprintf(
-        stderr,
-        "split chart: ring area %g fragments %zu area %g interior %zu chords %zu centre %g %g\n",
-        polygon_area(chart.w), chart.fragments.size(), fa, chart.interior.size(),
-        chart.chords.size(), chart.centre.x(), chart.centre.y());
-    for (std::size_t i = 0; i < m; ++i) {
-      const auto& loc = meta_.side[s].location[chart.ring[i]];
-      std::fprintf(stderr, "  w %g %g ring %d loc v%d f%d (%g %g %g) spoke %d breaks %zu\n",
-                   chart.w[i].x(), chart.w[i].y(), chart.ring[i], loc.vertex, loc.face, loc.bary[0],
-                   loc.bary[1], loc.bary[2], chart.spoke[i],
-                   meta_.side[s].crossings[chart.spoke[i]].size());
+  if (charted) {
+    std::vector<Vec2> polygon(chart.w.begin(), chart.w.begin() + last + 1);
+    polygon.push_back(chart.centre);
+    std::vector<Vec2> candidates;
+    if (const std::optional<Vec2> kernel = kernel_centroid(polygon)) candidates.push_back(*kernel);
+    for (std::size_t j = 0; j < last; ++j)
+      candidates.push_back((chart.centre + chart.w[j] + chart.w[j + 1]) / 3);
+    const std::size_t n_base = candidates.size();
+    for (int k = 1; k <= 8; ++k)
+      for (std::size_t c = 0; c < n_base; ++c)
+        candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
+    double best = HUGE_VAL;
+    Vec2 best_pos = chart.centre;
+    if (std::getenv("ISM_DEBUG")) {
+      double fa = 0;
+      for (const auto& f : chart.fragments) fa += polygon_area(f.chart);
+      std::fprintf(
+          stderr,
+          "split chart: ring area %g fragments %zu area %g interior %zu chords %zu centre %g %g\n",
+          polygon_area(chart.w), chart.fragments.size(), fa, chart.interior.size(),
+          chart.chords.size(), chart.centre.x(), chart.centre.y());
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto& loc = meta_.side[s].location[chart.ring[i]];
+        std::fprintf(stderr, "  w %g %g ring %d loc v%d f%d (%g %g %g) spoke %d breaks %zu\n",
+                     chart.w[i].x(), chart.w[i].y(), chart.ring[i], loc.vertex, loc.face,
+                     loc.bary[0], loc.bary[1], loc.bary[2], chart.spoke[i],
+                     meta_.side[s].crossings[chart.spoke[i]].size());
+      }
+      const auto& loc = meta_.side[s].location[chart.v];
+      std::fprintf(stderr, "  v %d loc v%d f%d (%g %g %g)\n", chart.v, loc.vertex, loc.face,
+                   loc.bary[0], loc.bary[1], loc.bary[2]);
     }
-    const auto& loc = meta_.side[s].location[chart.v];
-    std::fprintf(stderr, "  v %d loc v%d f%d (%g %g %g)\n", chart.v, loc.vertex, loc.face,
-                 loc.bary[0], loc.bary[1], loc.bary[2]);
+    for (const Vec2& c : candidates) {
+      if (!inside_polygon(polygon, c)) continue;
+      layout.inner[0].pos = c;
+      const double e = evaluate(chart, layout, nullptr);
+      if (std::getenv("ISM_DEBUG"))
+        std::fprintf(stderr, "candidate %g %g: %g (%d) kind %d\n", c.x(), c.y(), e, chart_failure_,
+                     int(chart.kind));
+      if (e < best) best = e, best_pos = c;
+    }
+    if (best < HUGE_VAL) {
+      layout.inner[0].pos = best_pos;
+      Proposal proposal;
+      if (evaluate(chart, layout, &proposal) < HUGE_VAL && apply(s, changed, proposal, 0, false))
+        return vs;
+      chart_failure_ = 5000;
+    }
   }
-  for (const Vec2& c : candidates) {
-    if (!inside_polygon(polygon, c)) continue;
-    layout.inner[0].pos = c;
-    const double e = evaluate(chart, layout, nullptr);
-    if (std::getenv("ISM_DEBUG"))
-      std::fprintf(stderr, "candidate %g %g: %g (%d) kind %d\n", c.x(), c.y(), e, chart_failure_,
-                   int(chart.kind));
-    if (e < best) best = e, best_pos = c;
-  }
-  if (best < HUGE_VAL) {
-    layout.inner[0].pos = best_pos;
+  // Fallback: vs next to vt, its edges along vt's old ones.
+  for (double eps = 1e-3; eps > 1e-12; eps *= 1e-2) {
     Proposal proposal;
-    if (evaluate(chart, layout, &proposal) < HUGE_VAL && apply(s, changed, proposal, 0, false))
+    const bool set_up = split_in_place(chart, last, vs, e_vl, e_vr, eps, proposal);
+    if (std::getenv("ISM_DEBUG"))
+      std::fprintf(stderr, "in place eps %g: set up %d\n", eps, int(set_up));
+    if (set_up && apply(s, changed, proposal, 0, false)) {
+      ++stats_.splits_in_place;
       return vs;
-    chart_failure_ = 5000;
+    }
   }
   throw std::runtime_error(where + ": no valid placement of the new vertex (" +
                            std::to_string(chart_failure_) + ")");

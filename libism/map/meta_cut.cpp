@@ -479,6 +479,35 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
       return *triangles;
     }
   }
+  // Last: of all triangulations on the corners, the one whose worst
+  // triangle (on either side) is best, by dynamic programming over the
+  // polygon's sub-chains (O(n³)). All triangles positive on both sides
+  // makes it a valid triangulation of both polygons (a locally injective
+  // map of a disc whose boundary goes round once).
+  std::vector<double> best_q(std::size_t(n) * n, -HUGE_VAL);
+  std::vector<int> split(std::size_t(n) * n, -1);
+  auto at = [&](int i, int j) { return std::size_t(i) * n + j; };
+  for (int i = 0; i + 1 < n; ++i) best_q[at(i, i + 1)] = HUGE_VAL;
+  for (int len = 2; len < n; ++len)
+    for (int i = 0; i + len < n; ++i) {
+      const int j = i + len;
+      for (int k = i + 1; k < j; ++k) {
+        const double q = std::min({best_q[at(i, k)], best_q[at(k, j)], quality(i, k, j)});
+        if (q > best_q[at(i, j)]) best_q[at(i, j)] = q, split[at(i, j)] = k;
+      }
+    }
+  if (!(best_q[at(0, n - 1)] > 0)) return out;
+  std::vector<std::array<int, 2>> stack{{0, n - 1}};
+  while (!stack.empty()) {
+    const auto [i, j] = stack.back();
+    stack.pop_back();
+    if (j - i < 2) continue;
+    const int k = split[at(i, j)];
+    out.push_back({i, k, j});
+    stack.push_back({i, k});
+    stack.push_back({k, j});
+  }
+  if (cdt) *cdt = true;
   return out;
 }
 

@@ -103,9 +103,10 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
 /// collinear corners); else a star around a point inside (index n = the
 /// number of corners, piece_point) if it works on both sides; else
 /// the constrained Delaunay triangulation of one side's polygon if it is
-/// valid on the other. Empty if none is. `cdt` tells whether the last was
-/// used. Depends only on the piece's corners, so it is the same from
-/// whichever side the piece was cut.
+/// valid on the other; else the triangulation on the corners whose worst
+/// triangle is best. Empty if no triangulation on the corners is valid on
+/// both sides. `cdt` tells whether one of the last two was used. Depends only on the piece's
+/// corners, so it is the same from whichever side the piece was cut.
 std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt = nullptr);
 
 /// The weights of the energy the map core lowers: symmetric stretch (paper

@@ -2,9 +2,13 @@
 // sides after every operation.
 #include "map/inter_surface_map.hpp"
 #include "domain/domain.hpp"
+#include "io/io.hpp"
+#include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
+#include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +21,44 @@ namespace {
 /// A progressive mesh of a genus-0 surface down to the octahedron.
 ProgressiveMesh octahedral_pm(const TriangleMesh& surface) {
   return simplify_constrained(trace_octahedral_network(surface), domain::octahedron());
+}
+
+/// A shared model decimated to about `vertices` vertices (positions kept).
+TriangleMesh decimated_model(const char* name, std::size_t vertices) {
+  const TriangleMesh full =
+      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / name)).mesh;
+  return base_mesh(simplify_to(full, vertices));
+}
+
+/// Progressive meshes of two surfaces of the same genus to one base: the
+/// base of the first decimated to `base_vertices`, its vertices' nearest
+/// points (bounding boxes matched) as the features of the second.
+std::array<ProgressiveMesh, 2> common_base_pms(const TriangleMesh& a, const TriangleMesh& b,
+                                               std::size_t base_vertices) {
+  const ProgressiveMesh coarse = simplify_to(a, base_vertices);
+  const TriangleMesh domain = base_mesh(coarse);
+  auto box = [](const TriangleMesh& m) {
+    Vec3 lo = m.positions[0], hi = lo;
+    for (const Vec3& p : m.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    return std::pair{lo, hi};
+  };
+  const auto [alo, ahi] = box(a);
+  const auto [blo, bhi] = box(b);
+  std::vector<int> fb;
+  std::vector<char> taken(b.positions.size(), 0);
+  for (int v : coarse.base_vertices) {
+    const Vec3 u = (a.positions[v] - alo).cwiseQuotient(ahi - alo);
+    int best = 0;
+    double d = HUGE_VAL;
+    for (std::size_t w = 0; w < b.positions.size(); ++w) {
+      const double e = ((b.positions[w] - blo).cwiseQuotient(bhi - blo) - u).squaredNorm();
+      if (e < d && !taken[w]) d = e, best = int(w);
+    }
+    taken[best] = 1;
+    fb.push_back(best);
+  }
+  return {simplify_constrained(trace_path_network(a, domain, coarse.base_vertices), domain),
+          simplify_constrained(trace_path_network(b, domain, fb), domain)};
 }
 
 /// Refines both sides in turn (the side less refined first), optimising
@@ -94,6 +136,40 @@ TEST(InterSurfaceMap, BothSidesRefineSphereAndBlob) {
       a.n_faces(), b.n_faces(), m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency,
       st.optimizations, st.moves, st.fast_path, st.developed, st.general, st.rejected);
   EXPECT_GT(m.symmetric_efficiency, 0.3);
+}
+
+// Known limitation (the next step of the map core): on these pairs some
+// vertex splits find no valid placement in the one-ring chart (a split next
+// to a feature whose ring's image wraps a vertex of the other side) and
+// refinement stops. Run with --gtest_also_run_disabled_tests.
+TEST(InterSurfaceMap, DISABLED_BothSidesRefineGenusOneTorusAndCup) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh a = shapes::torus(300), b = decimated_model("cup.obj", 150);
+  const TriangleMesh grid = domain::torus_3x3();
+  const ProgressiveMesh pa = simplify_constrained(trace_torus_network(a), grid);
+  const ProgressiveMesh pb = simplify_constrained(trace_torus_network(b), grid);
+  InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+  refine_both_checked(map, 5, 2);
+  if (HasFatalFailure()) return;
+  const MapMeasures m = map.measures();
+  std::printf("torus %zu / cup %zu faces: symmetric efficiency %.4f\n", map.n_faces(0),
+              map.n_faces(1), m.symmetric_efficiency);
+  EXPECT_FALSE(map.validate());
+  EXPECT_GT(m.symmetric_efficiency, 0.2);
+}
+
+TEST(InterSurfaceMap, DISABLED_BothSidesRefineGenusTwo) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh a = shapes::double_torus(300), b = decimated_model("double_torus.obj", 150);
+  const auto pms = common_base_pms(a, b, 20);
+  InterSurfaceMap map(side_from_pm(pms[0]), side_from_pm(pms[1]));
+  refine_both_checked(map, 5, 3);
+  if (HasFatalFailure()) return;
+  const MapMeasures m = map.measures();
+  std::printf("double torus %zu / eight %zu faces: symmetric efficiency %.4f\n", map.n_faces(0),
+              map.n_faces(1), m.symmetric_efficiency);
+  EXPECT_FALSE(map.validate());
+  EXPECT_GT(m.symmetric_efficiency, 0.1);
 }
 
 }  // namespace
