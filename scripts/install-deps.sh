@@ -8,6 +8,7 @@ packages=(
   libopenmesh-dev libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
   libopenexr-dev libopenimageio-dev openimageio-tools libdraco-dev
   libtbb-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev
 )
 
 missing=()

@@ -92,7 +92,7 @@ void Run::finish() {
   OutputFile out(options_.report_path, inputs_);
   {
     std::ofstream file(out.temp_path());
-    file << report_.dump() << '\n';
+    file << report_text(report_) << '\n';
     if (!file) throw Failure(options_.report_path + ": cannot write the report");
   }
   out.commit();

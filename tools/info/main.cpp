@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     info["file"] = input;
     run.report()["inputs"].push_back(info);
     if (json)
-      std::cout << info.dump() << '\n';
+      std::cout << ism::report_text(info) << '\n';
     else
       print_check(input, check);
     run.finish();
