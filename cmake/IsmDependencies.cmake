@@ -14,6 +14,15 @@ endif()
 if(ISM_BUILD_BENCH)
   find_package(benchmark 1.7 CONFIG REQUIRED)
 endif()
+if(ISM_BUILD_PYTHON)
+  # Debian's python3 (with python3-numpy and python3-pytest), not another one
+  # first on PATH, unless Python_EXECUTABLE is given.
+  if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Python the module is built for")
+  endif()
+  find_package(Python 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
+  find_package(pybind11 2.10 CONFIG REQUIRED)
+endif()
 set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
 find_package(CGAL 5.5 CONFIG REQUIRED)
 
