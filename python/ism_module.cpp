@@ -277,6 +277,17 @@ PYBIND11_MODULE(ism, m) {
       "ValueError (unsuitable mesh, features or option), OSError (a file cannot be read or\n"
       "written) or RuntimeError (the optimisation failed).";
   m.attr("__version__") = ISM_VERSION;
+  // Every function returns numpy arrays: say so at import, not after a long run.
+  try {
+    py::module_::import("numpy");
+  } catch (py::error_already_set& e) {
+    if (!e.matches(PyExc_ImportError)) throw;
+    throw py::import_error(
+        "ism needs numpy, which this Python (" +
+        py::module_::import("sys").attr("executable").cast<std::string>() +
+        ") does not have; use the interpreter the module was built for (Debian's /usr/bin/python3 "
+        "with python3-numpy) or install numpy");
+  }
 
   py::register_exception_translator([](std::exception_ptr p) {
     try {
