@@ -6,7 +6,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${SANITIZE_BUILD_DIR:-$root/build-sanitize}"
 "$root/scripts/install-deps.sh"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Debug -DISM_SANITIZE=ON \
-  -DISM_BUILD_TESTS=OFF -DISM_BUILD_BENCH=OFF >/dev/null
+  -DISM_BUILD_TESTS=OFF -DISM_BUILD_BENCH=OFF -DISM_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target ism_info
 shared="$root/../shared/models"
 if [ ! -d "$shared" ]; then

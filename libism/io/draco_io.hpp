@@ -1,9 +1,11 @@
 #pragma once
-// Compressed meshes through Google's Draco (.drc). Positions are quantized, so
-// a round trip is lossy; see write_draco() for what is kept exactly.
+// Compressed meshes through Google's Draco (.drc), and glTF 2.0 binary (.glb)
+// through Draco's glTF encoder, plain or Draco-compressed. Quantized positions
+// make a round trip lossy; see write_draco() for what is kept exactly.
 #include "mesh/triangle_mesh.hpp"
 
 #include <filesystem>
+#include <optional>
 
 namespace ism::io {
 
@@ -37,9 +39,26 @@ void write_draco(const TriangleMesh& mesh, const std::filesystem::path& path,
 /// without positions.
 TriangleMesh read_draco(const std::filesystem::path& path);
 
-/// Writes .drc through write_draco() (with `quantization_bits`), any other
+/// Writes the mesh as a glTF 2.0 binary file: one mesh, one triangle
+/// primitive, positions (and their bounds) as 32-bit floats, indices in face
+/// order, no normals or material. With `draco_bits` the primitive is
+/// Draco-compressed (extension KHR_draco_mesh_compression, required by the
+/// file), positions quantized to that many bits (8..30) as in write_draco();
+/// without, it is stored plainly, readable by every glTF viewer. Throws
+/// std::invalid_argument for a mesh without vertices or faces, a bad bit count
+/// or face index, and FileError when encoding or writing fails.
+void write_glb(const TriangleMesh& mesh, const std::filesystem::path& path,
+               std::optional<int> draco_bits = std::nullopt);
+
+/// How write_mesh_file() writes the formats that have settings.
+struct MeshFileOptions {
+  int draco_bits = 14;     // position quantization of .drc, and of .glb with glb_draco
+  bool glb_draco = false;  // .glb: Draco-compressed (else plain)
+};
+
+/// Writes .drc through write_draco(), .glb through write_glb(), any other
 /// extension through write_mesh().
 void write_mesh_file(const TriangleMesh& mesh, const std::filesystem::path& path,
-                     int quantization_bits = 14);
+                     const MeshFileOptions& options = {});
 
 }  // namespace ism::io

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -21,6 +22,16 @@ struct FeatureEntry {
 
 /// Parses a feature file; throws FileError naming the file and line.
 std::vector<FeatureEntry> read_feature_file(const std::filesystem::path& path);
+
+/// Features a pipeline takes: the feature file `path`, or, when `entries` is
+/// given, those entries (then `path` only names them in messages).
+struct FeatureSource {
+  std::string path;
+  std::optional<std::vector<FeatureEntry>> entries;
+  bool empty() const { return path.empty() && !entries; }
+  /// The entries given, or read_feature_file(path).
+  std::vector<FeatureEntry> read() const { return entries ? *entries : read_feature_file(path); }
+};
 
 /// Surface vertices of the entries, in grid order (row * columns + col) when
 /// every entry has a grid position, else in file order. Throws FileError for

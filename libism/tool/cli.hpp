@@ -1,6 +1,7 @@
 #pragma once
 // The command-line side of the tool conventions. CLI11 is costly to compile:
 // include this header only in a tool's main.cpp.
+#include "io/draco_io.hpp"
 #include "tool/map_stage.hpp"
 #include "tool/tool.hpp"
 
@@ -15,6 +16,15 @@ inline void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--report", options.report_path, "Write a JSON report (sizes, timings, measures)");
 }
 
+/// --draco-bits and --glb-draco, the same in every tool that writes meshes.
+inline void add_mesh_file_options(CLI::App& app, io::MeshFileOptions& options) {
+  app.add_option("--draco-bits", options.draco_bits,
+                 "Draco position quantisation bits (.drc, and .glb with --glb-draco)")
+      ->check(CLI::Range(8, 30));
+  app.add_flag("--glb-draco", options.glb_draco,
+               "Draco-compress .glb meshes (KHR_draco_mesh_compression; default: plain glTF)");
+}
+
 /// --hold-features, --final-sweeps, --inverse-weight and --curvature-weight, the same in every
 /// front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
@@ -27,14 +37,7 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
                  "Most optimisation sweeps at full resolution (more: lower stretch, longer run)")
       ->check(CLI::Range(0, 1000));
   app.add_option_function<double>(
-         "--inverse-weight",
-         [&settings](const double& w) {
-           // The other settings of the first variant (the anisotropy penalty) are kept.
-           MapVariant v = settings.variants.front();
-           v.inverse_stretch_weight = w;
-           settings.variants = {v};
-           settings.fallback_variants.clear();
-         },
+         "--inverse-weight", [&settings](const double& w) { settings.set_inverse_weight(w); },
          "Weight of the inverse stretch (surface -> domain) in the optimised energy: 1 is the "
          "symmetric stretch, lower favours the one-way stretch domain -> surface (default: "
          "the tool's variants, each refined and the best kept)")
@@ -45,20 +48,15 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
       ->check(CLI::Range(0.0, 100.0));
   // An energy setting given on the command line holds in every variant and
   // replaces the front end's fallbacks.
-  auto in_every_variant = [&settings](double MapVariant::*member) {
-    return [&settings, member](const double& value) {
-      for (MapVariant& v : settings.variants) v.*member = value;
-      settings.fallback_variants.clear();
-    };
-  };
-  app.add_option_function<double>("--anisotropy-weight",
-                                  in_every_variant(&MapVariant::anisotropy_weight),
-                                  "Weight of the penalty on faces whose map is more anisotropic "
-                                  "than --anisotropy-threshold, in every variant (and no "
-                                  "fallback variants)")
+  app.add_option_function<double>(
+         "--anisotropy-weight", [&settings](const double& w) { settings.set_anisotropy_weight(w); },
+         "Weight of the penalty on faces whose map is more anisotropic "
+         "than --anisotropy-threshold, in every variant (and no "
+         "fallback variants)")
       ->check(CLI::Range(0.0, 1e6));
   app.add_option_function<double>(
-         "--anisotropy-threshold", in_every_variant(&MapVariant::anisotropy_threshold),
+         "--anisotropy-threshold",
+         [&settings](const double& r) { settings.set_anisotropy_threshold(r); },
          "Ratio of the map's singular values above which the anisotropy penalty bites")
       ->check(CLI::Range(1.0, 1e6));
 }

@@ -22,6 +22,42 @@ MapOptions MapSettings::map_options(std::size_t i) const {
           .anisotropy_threshold = v.anisotropy_threshold};
 }
 
+void check_settings(const std::string& tool, const MapSettings& settings,
+                    const io::MeshFileOptions& mesh_file) {
+  auto in_range = [&](const char* option, double value, double lo, double hi) {
+    if (!(value >= lo && value <= hi))  // NaN fails too
+      throw Failure(tool + ": " + option + " must be in [" + Json(lo).dump() + ", " +
+                    Json(hi).dump() + "], got " + Json(value).dump());
+  };
+  in_range("--final-sweeps", settings.final_sweeps, 0, 1000);
+  in_range("--curvature-weight", settings.curvature_weight, 0, 100);
+  in_range("--draco-bits", mesh_file.draco_bits, 8, 30);
+  if (settings.variants.empty()) throw Failure(tool + ": no map variant to refine");
+  for (const auto* list : {&settings.variants, &settings.fallback_variants})
+    for (const MapVariant& v : *list) {
+      in_range("--inverse-weight", v.inverse_stretch_weight, 0.001, 1.0);
+      in_range("--anisotropy-weight", v.anisotropy_weight, 0, 1e6);
+      in_range("--anisotropy-threshold", v.anisotropy_threshold, 1, 1e6);
+    }
+}
+
+void MapSettings::set_inverse_weight(double w) {
+  MapVariant v = variants.front();
+  v.inverse_stretch_weight = w;
+  variants = {v};
+  fallback_variants.clear();
+}
+
+void MapSettings::set_anisotropy_weight(double w) {
+  for (MapVariant& v : variants) v.anisotropy_weight = w;
+  fallback_variants.clear();
+}
+
+void MapSettings::set_anisotropy_threshold(double ratio) {
+  for (MapVariant& v : variants) v.anisotropy_threshold = ratio;
+  fallback_variants.clear();
+}
+
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score) {
@@ -80,7 +116,8 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       throw;
     } catch (const std::exception& e) {
       throw Failure(run.tool_name() + ": the map optimisation failed on " + stage.input + " (" +
-                    e.what() + "); " + stage.hint);
+                        e.what() + "); " + stage.hint,
+                    Failure::Kind::internal);
     }
   }
 
@@ -125,12 +162,14 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
 MetaMesh validate_map(Run& run, const SurfaceMap& map) {
   run.stage("validate");
   const std::string invalid = run.tool_name() + ": internal error, the map is invalid: ";
-  if (const auto problem = map.validate()) throw Failure(invalid + *problem);
+  if (const auto problem = map.validate())
+    throw Failure(invalid + *problem, Failure::Kind::internal);
   // The same map from both sides, independently of how SurfaceMap stores it.
   std::optional<MetaMesh> meta = meta_mesh(map);
-  if (!meta) throw Failure(invalid + "it has no meta-mesh");
+  if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
   const auto pieces = meta_pieces(*meta);
-  if (!pieces) throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"));
+  if (!pieces)
+    throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"), Failure::Kind::internal);
   const MetaMeshSize size = meta_mesh_size(*meta, pieces->size());
   Json& j = run.report()["meta_mesh"];
   j["valid"] = true;

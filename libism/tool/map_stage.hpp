@@ -9,6 +9,7 @@
 // reaches the better map depends on the surface (a low inverse-stretch weight
 // lifts the one-way efficiency of most models but traps flat-faced ones such
 // as cube.obj in folds the symmetric energy avoids).
+#include "io/draco_io.hpp"
 #include "map/meta_mesh.hpp"
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
@@ -44,9 +45,24 @@ struct MapSettings {
   std::vector<MapVariant> fallback_variants;
   /// The options of variant i.
   MapOptions map_options(std::size_t i) const;
+  /// --inverse-weight W: the single variant W (the first variant's other
+  /// settings, e.g. its anisotropy penalty, kept), no fallbacks.
+  void set_inverse_weight(double w);
+  /// --anisotropy-weight and --anisotropy-threshold: the value in every
+  /// variant, no fallbacks.
+  void set_anisotropy_weight(double w);
+  void set_anisotropy_threshold(double ratio);
   /// --meta-mesh: the map written as a meta-mesh (map/meta_mesh.hpp); empty: none.
   std::string meta_mesh_path;
 };
+
+/// Throws Failure naming the option when a setting is outside the range the
+/// command line accepts (tool/cli.hpp), for front ends that do not parse
+/// options with CLI11 (the Python module): final sweeps 0..1000, inverse
+/// weight 0.001..1, curvature weight 0..100, anisotropy weight 0..1e6 and
+/// threshold 1..1e6, at least one variant, Draco bits 8..30.
+void check_settings(const std::string& tool, const MapSettings& settings,
+                    const io::MeshFileOptions& mesh_file = {});
 
 struct MapStage {
   std::string input;         // the surface's file, for messages

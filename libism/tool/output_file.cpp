@@ -18,12 +18,15 @@ OutputFile::OutputFile(fs::path target, const std::vector<fs::path>& inputs)
     : target_(std::move(target)) {
   for (const fs::path& input : inputs)
     if (same_file(target_, input))
-      throw Failure(target_.string() + ": refusing to overwrite an input file");
+      throw Failure(target_.string() + ": refusing to overwrite an input file",
+                    Failure::Kind::file);
   fs::path folder = target_.parent_path();
   std::error_code ec;
   if (!folder.empty() && !fs::is_directory(folder, ec))
-    throw Failure(target_.string() + ": output folder " + folder.string() + " does not exist");
-  if (fs::is_directory(target_, ec)) throw Failure(target_.string() + ": is a folder");
+    throw Failure(target_.string() + ": output folder " + folder.string() + " does not exist",
+                  Failure::Kind::file);
+  if (fs::is_directory(target_, ec))
+    throw Failure(target_.string() + ": is a folder", Failure::Kind::file);
   // Same folder (so the rename is atomic) and same extension (writers pick
   // the format from it).
   temp_ = folder / ("." + target_.stem().string() + ".partial-" + std::to_string(::getpid()) +
@@ -40,7 +43,9 @@ OutputFile::~OutputFile() {
 void OutputFile::commit() {
   std::error_code ec;
   fs::rename(temp_, target_, ec);
-  if (ec) throw Failure(target_.string() + ": cannot write the file (" + ec.message() + ")");
+  if (ec)
+    throw Failure(target_.string() + ": cannot write the file (" + ec.message() + ")",
+                  Failure::Kind::file);
   committed_ = true;
 }
 

@@ -37,14 +37,29 @@ void Run::check_output(const std::filesystem::path& path) const {
   OutputFile probe(path, inputs_);
 }
 
+Failure reading_failure(const std::filesystem::path& path, const std::exception& error) {
+  std::error_code ec;
+  const bool readable = std::filesystem::is_regular_file(path, ec) && std::ifstream(path).good();
+  return Failure(error.what(), readable ? Failure::Kind::input : Failure::Kind::file);
+}
+
 TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs) {
-  add_input(path);
-  stage("read");
+  return load_surface(InputMesh{path.string(), std::nullopt}, needs);
+}
+
+TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& needs) {
+  const std::filesystem::path path = given.path;
   PolygonSoup soup;
-  try {
-    soup = io::read_polygon_soup(path);
-  } catch (const io::FileError& e) {
-    throw Failure(e.what());
+  if (given.soup) {
+    soup = *given.soup;
+  } else {
+    add_input(path);
+    stage("read");
+    try {
+      soup = io::read_polygon_soup(path);
+    } catch (const io::FileError& e) {
+      throw reading_failure(path, e);
+    }
   }
   stage("check");
   PreparedMesh prepared = prepare_mesh(soup);
@@ -92,8 +107,9 @@ void Run::finish() {
   OutputFile out(options_.report_path, inputs_);
   {
     std::ofstream file(out.temp_path());
-    file << report_.dump() << '\n';
-    if (!file) throw Failure(options_.report_path + ": cannot write the report");
+    file << report_text(report_) << '\n';
+    if (!file)
+      throw Failure(options_.report_path + ": cannot write the report", Failure::Kind::file);
   }
   out.commit();
 }
@@ -105,7 +121,7 @@ void write_output(const Run& run, const std::string& path,
   try {
     write(out.temp_path());
   } catch (const io::FileError&) {
-    throw Failure(path + ": cannot write the file");
+    throw Failure(path + ": cannot write the file", Failure::Kind::file);
   }
   out.commit();
 }

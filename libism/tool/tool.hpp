@@ -4,16 +4,31 @@
 // that appear only when complete and never over an input.
 #include "mesh/mesh_check.hpp"
 #include "report/json.hpp"
+#include "tool/failure.hpp"
 #include "tool/output_file.hpp"
 #include "tool/progress.hpp"
 
 #include <chrono>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace ism::tool {
+
+/// A mesh a pipeline reads: the file `path`, or, when `soup` is given, that
+/// polygon soup as a file would hold it (then `path` only names it in
+/// messages and the report, and is neither read nor protected from writes).
+struct InputMesh {
+  std::string path;
+  std::optional<PolygonSoup> soup;
+  bool empty() const { return path.empty() && !soup; }
+};
+
+/// A reading error as a Failure with the reader's message: Kind::file when
+/// `path` is not a readable file, Kind::input when its content is at fault.
+Failure reading_failure(const std::filesystem::path& path, const std::exception& error);
 
 /// Options every tool takes (see tool/cli.hpp for the command-line side).
 struct CommonOptions {
@@ -37,6 +52,8 @@ class Run {
   /// first unmet requirement. Repairs are announced on stderr and the check
   /// goes into the report under "input".
   TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs);
+  /// The same for a file or a soup given in memory (InputMesh).
+  TriangleMesh load_surface(const InputMesh& input, const MeshRequirements& needs);
   /// Files that outputs must never overwrite.
   void add_input(const std::filesystem::path& path);
   /// Throws Failure now if `path` could not be written later (an input, a

@@ -1,9 +1,11 @@
-// Geometry images (float EXR), PNG previews and Draco meshes survive a round
-// trip, and bad files fail with a FileError naming the file.
+// Geometry images (float EXR), PNG previews, Draco meshes and glTF binaries
+// survive a round trip, and bad files fail with a FileError naming the file.
 #include "io/image_io.hpp"
+#include "gltf_validator.hpp"
 #include "io/draco_io.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
+#include "report/json.hpp"
 #include "test_support.hpp"
 
 #include <OpenImageIO/imageio.h>
@@ -12,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -294,6 +297,160 @@ TEST(DracoIo, BadInputThrows) {
   EXPECT_NE(
       file_error_message([&] { io::write_draco(mesh, unwritable); }).find(unwritable.string()),
       std::string::npos);
+}
+
+// ---------------------------------------------------------------- glTF
+
+// A glTF binary file: its JSON chunk and its BIN chunk.
+struct Glb {
+  Json json;
+  std::string bin;
+};
+
+Glb read_glb(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return v;
+  };
+  Glb glb;
+  if (bytes.size() < 12 || bytes.substr(0, 4) != "glTF" || u32(4) != 2 || u32(8) != bytes.size()) {
+    ADD_FAILURE() << path << ": not a glTF 2.0 binary of the length its header gives";
+    return glb;
+  }
+  for (std::size_t at = 12; at + 8 <= bytes.size(); at += 8 + u32(at)) {
+    const std::string kind = bytes.substr(at + 4, 4), chunk = bytes.substr(at + 8, u32(at));
+    if (kind == "JSON") glb.json = Json::parse(chunk);
+    if (kind == std::string("BIN\0", 4)) glb.bin = chunk;
+  }
+  return glb;
+}
+
+// The mesh of the file's one triangle primitive: read from its accessors, or,
+// Draco-compressed, decoded by io::read_draco from the extension's buffer view.
+TriangleMesh glb_mesh(const Glb& glb, const fs::path& scratch_drc) {
+  const Json& primitive = glb.json["meshes"][0]["primitives"][0];
+  EXPECT_EQ(primitive.value("mode", 4), 4) << "triangles";
+  auto view_bytes = [&](int view) {
+    const Json& v = glb.json["bufferViews"][view];
+    return glb.bin.substr(v.value("byteOffset", 0), v["byteLength"].get<std::size_t>());
+  };
+  if (primitive.contains("extensions")) {
+    const int view = primitive["extensions"]["KHR_draco_mesh_compression"]["bufferView"];
+    std::ofstream(scratch_drc, std::ios::binary) << view_bytes(view);
+    return io::read_draco(scratch_drc);
+  }
+  auto accessor = [&](int index) {
+    const Json& a = glb.json["accessors"][index];
+    return std::pair(a, view_bytes(a["bufferView"]).substr(a.value("byteOffset", 0)));
+  };
+  TriangleMesh mesh;
+  const auto [positions, position_bytes] = accessor(primitive["attributes"]["POSITION"]);
+  EXPECT_EQ(positions["componentType"], 5126);  // float
+  for (std::size_t i = 0; i < positions["count"].get<std::size_t>(); ++i) {
+    float xyz[3];
+    std::memcpy(xyz, position_bytes.data() + 12 * i, 12);
+    mesh.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+  }
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(positions["min"][k].get<float>(),
+              std::min_element(mesh.positions.begin(), mesh.positions.end(),
+                               [k](const Vec3& a, const Vec3& b) { return a[k] < b[k]; })
+                  ->
+                  operator[](k));
+  }
+  const auto [indices, index_bytes] = accessor(primitive["indices"]);
+  const int type = indices["componentType"];
+  const std::size_t width = type == 5125 ? 4 : type == 5123 ? 2 : 1;  // uint32, uint16, uint8
+  EXPECT_TRUE(type == 5125 || type == 5123 || type == 5121) << type;
+  const std::size_t count = indices["count"];
+  EXPECT_EQ(count % 3, 0u);
+  for (std::size_t i = 0; i + 2 < count; i += 3) {
+    Triangle t;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t v = 0;
+      std::memcpy(&v, index_bytes.data() + width * (i + k), width);
+      t[k] = int(v);
+    }
+    mesh.triangles.push_back(t);
+  }
+  return mesh;
+}
+
+TEST(GltfIo, PlainGlbHoldsEveryFaceWithFloatPositions) {
+  const TriangleMesh mesh = subdivided_octahedron(2);
+  const fs::path path = scratch("octahedron_plain.glb");
+  io::write_glb(mesh, path);
+  const Glb glb = read_glb(path);
+  EXPECT_EQ(glb.json["asset"]["version"], "2.0");
+  EXPECT_FALSE(glb.json.contains("extensionsUsed"));
+  const TriangleMesh back = glb_mesh(glb, scratch("octahedron_plain_glb.drc"));
+  // The same vertices as floats and the same faces, in order and orientation.
+  ASSERT_EQ(back.n_vertices(), mesh.n_vertices());
+  EXPECT_EQ(back.triangles, mesh.triangles);
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    EXPECT_EQ(back.positions[v], mesh.positions[v].cast<float>().cast<double>()) << v;
+}
+
+TEST(GltfIo, DracoGlbIsCompressedWithinQuantization) {
+  const TriangleMesh mesh = subdivided_octahedron(4);  // 1026 vertices, 2048 faces
+  const fs::path plain = scratch("octahedron4_plain.glb"),
+                 packed = scratch("octahedron4_draco.glb");
+  const int bits = 11;
+  io::write_glb(mesh, plain);
+  io::write_glb(mesh, packed, bits);
+  const Glb glb = read_glb(packed);
+  EXPECT_EQ(glb.json["extensionsRequired"][0], "KHR_draco_mesh_compression");
+  EXPECT_LT(fs::file_size(packed) * 3, fs::file_size(plain));
+  const TriangleMesh back = glb_mesh(glb, scratch("octahedron4_glb.drc"));
+  // Draco may renumber the vertices: every decoded vertex within the
+  // quantization step of an input vertex, the surface closed, genus 0 and
+  // oriented outward as the input.
+  ASSERT_EQ(back.n_faces(), mesh.n_faces());
+  const double tolerance = quantization_tolerance(mesh, bits);
+  for (const Vec3& p : back.positions) {
+    double nearest = INFINITY;
+    for (const Vec3& q : mesh.positions) nearest = std::min(nearest, (p - q).norm());
+    ASSERT_LE(nearest, tolerance);
+  }
+  const PreparedMesh prepared = prepare_mesh(to_soup(back));
+  EXPECT_TRUE(prepared.check.closed());
+  EXPECT_EQ(prepared.check.genus, 0);
+  EXPECT_FALSE(prepared.check.flipped_inward);
+  EXPECT_NEAR(signed_volume(back), signed_volume(mesh), 1e-2);
+}
+
+TEST(GltfIo, BadInputThrows) {
+  const TriangleMesh mesh = subdivided_octahedron(0);
+  EXPECT_THROW(io::write_glb(TriangleMesh{}, scratch("bad.glb")), std::invalid_argument);
+  EXPECT_THROW(io::write_glb(mesh, scratch("bad.glb"), 7), std::invalid_argument);
+  TriangleMesh broken = mesh;
+  broken.triangles[0][1] = -1;
+  EXPECT_THROW(io::write_glb(broken, scratch("bad.glb")), std::invalid_argument);
+  const fs::path unwritable = scratch("no_such_dir") / "sub" / "x.glb";
+  EXPECT_NE(file_error_message([&] { io::write_glb(mesh, unwritable); }).find(unwritable.string()),
+            std::string::npos);
+}
+
+TEST(GltfIo, MeshFileOptionsChooseCompression) {
+  const TriangleMesh mesh = subdivided_octahedron(3);
+  const fs::path plain = scratch("octahedron3_file.glb"),
+                 packed = scratch("octahedron3_file_d.glb");
+  io::write_mesh_file(mesh, plain);
+  io::write_mesh_file(mesh, packed, {.draco_bits = 12, .glb_draco = true});
+  EXPECT_FALSE(read_glb(plain).json.contains("extensionsRequired"));
+  EXPECT_EQ(read_glb(packed).json["extensionsRequired"][0], "KHR_draco_mesh_compression");
+}
+
+TEST(GltfIo, KhronosValidatorFindsNoError) {
+  ISM_REQUIRE_GLTF_VALIDATOR();
+  const TriangleMesh mesh = subdivided_octahedron(3);
+  const fs::path plain = scratch("validated_plain.glb"), packed = scratch("validated_draco.glb");
+  io::write_glb(mesh, plain);
+  io::write_glb(mesh, packed, 14);
+  ISM_EXPECT_VALID_GLTF(std::vector<fs::path>({plain, packed}), scratch("validated_glb.log"));
 }
 
 }  // namespace

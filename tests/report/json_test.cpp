@@ -16,9 +16,15 @@ TEST(Json, ObjectsKeepInsertionOrderAndEscapeStrings) {
   j["nested"]["x"] = 0.5;
   EXPECT_EQ(j.dump(-1),
             R"({"zeta":1,"alpha":"a \"quoted\"\nline","list":[true,null],"nested":{"x":0.5}})");
-  ASSERT_NE(j.find("nested"), nullptr);
-  EXPECT_EQ(j.find("missing"), nullptr);
+  EXPECT_TRUE(j.contains("nested"));
+  EXPECT_FALSE(j.contains("missing"));
   EXPECT_EQ(j.size(), 4u);
+}
+
+TEST(Json, InvalidUtf8IsReplacedNotThrown) {
+  Json j = Json::object();
+  j["file"] = std::string("bad\xff.obj");
+  EXPECT_EQ(report_text(j), "{\n  \"file\": \"bad\xef\xbf\xbd.obj\"\n}");
 }
 
 TEST(Json, NonFiniteNumbersBecomeNull) {
@@ -31,7 +37,9 @@ TEST(Json, NonFiniteNumbersBecomeNull) {
 TEST(Json, IndentedOutput) {
   Json j = Json::object();
   j["a"] = 1;
-  EXPECT_EQ(j.dump(2), "{\n  \"a\": 1\n}");
+  j["b"] = Json::array();
+  j["c"]["d"] = 0.25;
+  EXPECT_EQ(report_text(j), "{\n  \"a\": 1,\n  \"b\": [],\n  \"c\": {\n    \"d\": 0.25\n  }\n}");
 }
 
 TEST(Json, MeshCheckHasTheKeysToolsRelyOn) {
@@ -40,7 +48,7 @@ TEST(Json, MeshCheckHasTheKeysToolsRelyOn) {
   s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   const Json j = to_json(prepare_mesh(s).check);
   for (const char* key : {"vertices", "faces", "components", "boundary_loops", "genus", "manifold"})
-    EXPECT_NE(j.find(key), nullptr) << key;
+    EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_NE(j.dump(-1).find("\"genus\":0"), std::string::npos);
 }
 

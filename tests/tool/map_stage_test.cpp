@@ -45,7 +45,7 @@ TEST(MapStage, KeepsTheVariantWithTheHighestScore) {
     // The weight 0.1 map has the better one-way, the weight 1 map the better
     // symmetric stretch: each score keeps its own.
     EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, prefer_one_way ? 0.1 : 1.0);
-    const std::string report = run.report().dump();
+    const std::string report = report_text(run.report());
     EXPECT_NE(report.find("\"map_variants\""), std::string::npos);
     const std::size_t first = report.find("\"kept\": true");
     ASSERT_NE(first, std::string::npos);
@@ -68,7 +68,7 @@ TEST(MapStage, OneFailingVariantIsDroppedAndAllFailingIsAFailure) {
       run_map_stage(run, progress, {.input = "blob"}, two_weights, choose_second_fails, score);
   EXPECT_EQ(calls, 2);
   EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, 1.0);
-  EXPECT_NE(run.report().dump().find("no coarse map"), std::string::npos);
+  EXPECT_NE(report_text(run.report()).find("no coarse map"), std::string::npos);
 
   const auto choose_fails = [](const MapOptions&) -> std::unique_ptr<MapSetup> {
     throw std::runtime_error("no coarse map");
@@ -102,7 +102,7 @@ TEST(MapStage, FallbackVariantsRunOnlyBelowTheThresholdAndCompete) {
         run, progress, {.input = "blob", .retry_below = retry_below}, settings, choose, score);
     const bool retried = retry_below > 1;
     EXPECT_EQ(calls.load(), retried ? 2 : 1);
-    const std::string report = run.report().dump();
+    const std::string report = report_text(run.report());
     EXPECT_EQ(report.find("\"fallback\": true") != std::string::npos, retried);
     // The one-way score prefers the fallback's weight 0.1 when it runs.
     EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, retried ? 0.1 : 1.0);

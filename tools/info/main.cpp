@@ -1,9 +1,7 @@
 // ism-info MESH [--json]: what a mesh is (sizes, topology, defects) and what
 // reading it repaired. Exit 0 for one connected, orientable 2-manifold of any
 // genus, with or without boundary; 1 with the defect otherwise.
-#include "io/io.hpp"
-#include "mesh/mesh_check.hpp"
-#include "report/report.hpp"
+#include "pipeline/mesh_info.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
 
@@ -48,25 +46,13 @@ int main(int argc, char** argv) {
 
   return ism::tool::run_main("ism-info", [&] {
     ism::tool::Run run("ism-info", common);
-    run.add_input(input);
-    run.stage("read");
-    ism::PolygonSoup soup;
-    try {
-      soup = ism::io::read_polygon_soup(input);
-    } catch (const ism::io::FileError& e) {
-      throw ism::tool::Failure(e.what());
-    }
-    run.stage("check");
-    const ism::MeshCheck check = ism::prepare_mesh(soup).check;
-    ism::Json info = ism::to_json(check);
-    info["file"] = input;
-    run.report()["inputs"].push_back(info);
+    const ism::pipeline::MeshInfo info = ism::pipeline::mesh_info(run, {input, std::nullopt});
     if (json)
-      std::cout << info.dump() << '\n';
+      std::cout << ism::report_text(info.info) << '\n';
     else
-      print_check(input, check);
+      print_check(input, info.check);
     run.finish();
-    const auto unmet = ism::unmet_requirement(check, {.tool = "ism-info"});
+    const auto unmet = ism::unmet_requirement(info.check, {.tool = "ism-info"});
     if (unmet) throw ism::tool::Failure(input + ": " + *unmet);
     return 0;
   });

@@ -1,0 +1,167 @@
+#include "pipeline/gim_remesh.hpp"
+
+#include "domain/domain.hpp"
+#include "io/image_io.hpp"
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "metrics/metrics.hpp"
+#include "partition/partition.hpp"
+#include "refine/network_choice.hpp"
+#include "report/report.hpp"
+#include "sample/geometry_image_file.hpp"
+
+#include <cmath>
+
+namespace ism::pipeline {
+namespace {
+
+// Area-weighted vertex normals of the map's surface.
+std::vector<Vec3> vertex_normals(const SurfaceMap& map) {
+  std::vector<Vec3> n(map.positions().size(), Vec3::Zero());
+  for (const Triangle& t : map.faces()) {
+    const auto& p = map.positions();
+    const Vec3 fn = (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
+    for (int v : t) n[v] += fn;
+  }
+  for (Vec3& v : n)
+    if (v.norm() > 0) v.normalize();
+  return n;
+}
+
+// The preview: the geometry image (positions normalised to the bounding box)
+// beside the normal map shaded by a light, so both read at a glance.
+std::vector<std::array<unsigned char, 3>> preview_pixels(const GeometryImage& image,
+                                                         const std::vector<Vec3>& normals) {
+  const int n = image.n;
+  Vec3 lo = image.pixels.front(), hi = lo;
+  for (const Vec3& p : image.pixels) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Vec3 extent = (hi - lo).cwiseMax(1e-300);
+  std::vector<std::array<unsigned char, 3>> out(std::size_t(2 * n) * n);
+  const Vec3 light = Vec3(0.3, 0.4, 1.0).normalized();
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Vec3 c = (image.pixels[std::size_t(i) * n + j] - lo).cwiseQuotient(extent);
+      auto& left = out[std::size_t(i) * 2 * n + j];
+      for (int k = 0; k < 3; ++k) left[k] = static_cast<unsigned char>(std::lround(255 * c[k]));
+      // Two antipodal lights, as the paper's figures: every side reads.
+      const double shade = 0.15 + 0.85 * std::abs(normals[std::size_t(i) * n + j].dot(light));
+      auto& right = out[std::size_t(i) * 2 * n + n + j];
+      right.fill(static_cast<unsigned char>(std::lround(255 * shade)));
+    }
+  return out;
+}
+
+}  // namespace
+
+GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
+  const std::string& input = o.input.path;
+  if (!o.input.soup) run.add_input(input);
+  if (!o.features.entries && !o.features.path.empty()) run.add_input(o.features.path);
+  for (const std::string& out : {o.output, o.normals, o.mesh, o.preview, o.dump_patches})
+    if (!out.empty()) run.check_output(out);
+  if (o.size < 3 || ((o.size - 1) & (o.size - 2)) != 0)
+    throw tool::Failure("gim-remesh: --size must be 2^k+1 (e.g. 65, 129, 257, 513), got " +
+                        std::to_string(o.size));
+  if (o.metric != "right-isosceles" && o.metric != "equilateral")
+    throw tool::Failure("gim-remesh: --metric must be right-isosceles or equilateral, got '" +
+                        o.metric + "'");
+  tool::check_settings("gim-remesh", o.map, o.mesh_file);
+
+  const TriangleMesh surface =
+      run.load_surface(o.input, {.tool = "gim-remesh", .closed = true, .genus = 0});
+
+  run.stage("partition");
+  std::vector<PathNetwork> networks;
+  try {
+    if (o.features.empty()) {
+      networks =
+          trace_octahedral_networks(surface, {.distinguish_poles = o.metric != "equilateral"});
+    } else {
+      const auto entries = o.features.read();
+      const auto features = io::resolve_features(entries, surface, 0, o.features.path);
+      networks.push_back(trace_path_network(surface, domain::octahedron(), features));
+    }
+  } catch (const PartitionError& e) {
+    throw tool::Failure(input + ": " + e.what());
+  } catch (const io::FileError& e) {
+    throw o.features.entries ? tool::Failure(e.what()) : tool::reading_failure(o.features.path, e);
+  }
+
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainMetric metric =
+      o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;
+  const DomainGeometry domain(octahedron, octahedron_lengths(octahedron, metric));
+  const std::size_t candidates = networks.size();
+  tool::Progress& progress = run.stage("map");
+  const auto [chosen, stats] = tool::run_map_stage(
+      run, progress,
+      {.input = input,
+       .dump_patches = o.dump_patches,
+       .hint = "try --hold-features or other --features"},
+      o.map, [&](const MapOptions& options) { return choose_network(networks, domain, options); },
+      [](const SurfaceMap& m) { return m.measures().forward_efficiency; });
+  run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
+  run.report()["partition"]["candidate_networks"] = candidates;
+  const SurfaceMap& map = *chosen->map;
+
+  const MetaMesh meta = tool::validate_map(run, map);
+
+  run.stage("sample");
+  const MapSampler sampler(map);
+  const std::vector<Vec3> normals = vertex_normals(map);
+  GimRemeshResult result;
+  // Metric and layout agree: the right-isosceles octahedron is the square.
+  result.image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    if (!s) throw std::runtime_error("a sample fell outside the map");
+    return s->position;
+  });
+  result.normals = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+    const auto s = sampler.surface_point(q.face, q.bary);
+    const Triangle& t = map.faces()[s->face];
+    return Vec3(
+        (s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
+            .normalized());
+  });
+  const GeometryImage& image = result.image;
+
+  run.stage("write");
+  tool::write_meta_mesh_output(run, o.map, meta);
+  tool::write_output(run, o.output,
+                     [&](const std::filesystem::path& p) { write_geometry_image(image, p); });
+  tool::write_output(run, o.normals, [&](const std::filesystem::path& p) {
+    write_geometry_image(result.normals, p);
+  });
+  result.remesh = image_to_mesh(image);
+  tool::write_output(run, o.mesh, [&](const std::filesystem::path& p) {
+    io::write_mesh_file(result.remesh, p, o.mesh_file);
+  });
+  tool::write_output(run, o.preview, [&](const std::filesystem::path& p) {
+    io::write_png_preview(p, 2 * o.size, o.size, preview_pixels(image, result.normals.pixels));
+  });
+
+  run.stage("measure");
+  const MapMeasures m = map.measures();
+  const SurfaceDistance distance = surface_distance(surface, result.remesh);
+  Json& r = run.report();
+  r["size"] = o.size;
+  r["metric"] = o.metric;
+  r["map"] = map_report(map, m, stats);
+  const double square_efficiency = image_efficiency(image, ImageDomain::square);
+  Json& ij = r["image"];
+  ij["efficiency_square"] = square_efficiency;
+  ij["efficiency_octahedron"] = image_efficiency(image, ImageDomain::octahedron);
+  ij["flipped_triangles"] = flipped_triangles(image);
+  ij["remesh_vertices"] = result.remesh.n_vertices();
+  ij["remesh_faces"] = result.remesh.n_faces();
+  r["distance"] = distance_report(distance);
+  run.note((o.output.empty() ? input : o.output) + ": " + std::to_string(o.size) + "x" +
+           std::to_string(o.size) + " geometry image; map efficiency " +
+           std::to_string(m.forward_efficiency) + " (symmetric " +
+           std::to_string(m.symmetric_efficiency) + "), image efficiency " +
+           std::to_string(square_efficiency) + ", PSNR " + std::to_string(distance.psnr_db) +
+           " dB");
+  return result;
+}
+
+}  // namespace ism::pipeline

@@ -1,0 +1,318 @@
+#include "pipeline/semireg.hpp"
+
+#include "io/io.hpp"
+#include "map/map.hpp"
+#include "metrics/metrics.hpp"
+#include "partition/partition.hpp"
+#include "pm/pm.hpp"
+#include "refine/network_choice.hpp"
+#include "refine/refine.hpp"
+#include "report/report.hpp"
+#include "sample/semiregular.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <set>
+#include <utility>
+
+namespace ism::pipeline {
+namespace {
+
+// Genus of a closed connected manifold: V - E + F = 2 - 2g.
+int genus_of(const TriangleMesh& mesh) {
+  return int((2 - euler_characteristic(mesh)) / 2);
+}
+
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+// The user's base: checked, its vertices snapped to distinct surface vertices
+// near them. Returns the base (on the surface) and the features.
+std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const SemiregOptions& o,
+                                                    const TriangleMesh& surface) {
+  const std::string& base_name = o.base.path;
+  const std::string no_faces =
+      base_name +
+      ": the base has no faces; for base vertices alone (connectivity chosen by semireg) "
+      "list them with --base-vertices FILE (vertex indices or X Y Z points, one per line)";
+  if (o.base.soup) {
+    if (o.base.soup->faces.empty()) throw tool::Failure(no_faces);
+  } else {
+    try {
+      // The reader refuses a file without faces: say what that means here.
+      if (io::read_polygon_soup(base_name).faces.empty()) throw tool::Failure(no_faces);
+    } catch (const io::FileError& e) {
+      const std::string what = e.what(), tail = "the file has no faces";
+      if (what.size() >= tail.size() &&
+          what.compare(what.size() - tail.size(), tail.size(), tail) == 0)
+        throw tool::Failure(no_faces);
+      throw tool::reading_failure(base_name, e);
+    }
+  }
+  TriangleMesh base =
+      run.load_surface(o.base, {.tool = "semireg (as a base mesh)", .closed = true});
+  run.stage("snap base");
+  const int surface_genus = genus_of(surface), base_genus = genus_of(base);
+  if (base_genus != surface_genus)
+    throw tool::Failure(base_name + ": genus " + std::to_string(base_genus) +
+                        " base, the surface " + o.input.path + " has genus " +
+                        std::to_string(surface_genus));
+  const double diagonal = bounding_box_diagonal(surface);
+  const double limit = 0.05 * diagonal;
+  std::vector<int> features(base.n_vertices(), -1);
+  std::vector<int> owner(surface.n_vertices(), -1);
+  double worst = 0;
+  for (std::size_t i = 0; i < base.n_vertices(); ++i) {
+    const Vec3& p = base.positions[i];
+    double best = INFINITY;
+    int nearest = -1;
+    for (std::size_t v = 0; v < surface.n_vertices(); ++v) {
+      const double d = (surface.positions[v] - p).squaredNorm();
+      if (d < best) best = d, nearest = int(v);
+    }
+    const double distance = std::sqrt(best);
+    worst = std::max(worst, distance);
+    if (distance > limit)
+      throw tool::Failure(base_name + ": base vertex " + std::to_string(i) + " is " +
+                          fixed(distance, 4) + " from the surface (limit " + fixed(limit, 4) +
+                          ", 5% of the surface's bounding-box diagonal)");
+    if (owner[nearest] >= 0)
+      throw tool::Failure(base_name + ": base vertices " + std::to_string(owner[nearest]) +
+                          " and " + std::to_string(i) + " both snap to surface vertex " +
+                          std::to_string(nearest) + "; the base is too fine for the surface there");
+    owner[nearest] = int(i);
+    features[i] = nearest;
+    base.positions[i] = surface.positions[nearest];
+  }
+  Json& bj = run.report()["base"];
+  bj["source"] = "file";
+  bj["file"] = base_name;
+  bj["largest_snap_distance"] = worst;
+  bj["largest_snap_distance_relative"] = diagonal > 0 ? worst / diagonal : 0.0;
+  return {std::move(base), std::move(features)};
+}
+
+struct BaseCandidate {
+  std::string name;
+  TriangleMesh mesh;
+  std::vector<int> features;  // base vertex i is surface vertex features[i]
+};
+
+// Bases of about o.base_size vertices decimated from the surface: the
+// quadric error keeps the shape but leaves long triangles on flat parts;
+// isotropic priorities give even, well-shaped faces, more or less bent
+// towards valence 6. Each decimation's vertices also compete with the
+// connectivity of their Voronoi regions (delaunay_base) where that is valid.
+std::vector<BaseCandidate> decimated_bases(tool::Run& run, const SemiregOptions& o,
+                                           const TriangleMesh& surface) {
+  const std::pair<const char*, SimplifyOptions> priorities[] = {
+      {"isotropic", {.priority = SimplifyPriority::isotropic}},
+      {"isotropic, valence 0.01",
+       {.priority = SimplifyPriority::isotropic, .valence_weight = 0.01}},
+      {"isotropic, valence from curvature",
+       {.priority = SimplifyPriority::isotropic,
+        .valence_weight = 0.01,
+        .valence_from_curvature = true}},
+      {"quadric", {.priority = SimplifyPriority::quadric}},
+  };
+  tool::Progress& progress = run.stage("base");
+  std::vector<BaseCandidate> bases, dual_bases;
+  const double n = double(std::size(priorities));
+  for (const auto& [name, priority] : priorities) {
+    SimplifyOptions options = priority;
+    const double done = double(bases.size());
+    options.progress = [&](double f) { progress.update((done + f) / n); };
+    ProgressiveMesh decimated;
+    try {
+      decimated = simplify_to(surface, o.base_size, options);
+    } catch (const std::runtime_error& e) {
+      throw tool::Failure(o.input.path + ": cannot decimate to a base mesh: " + e.what());
+    }
+    if (decimated.base_vertices.size() != o.base_size && bases.empty())
+      run.note(o.input.path + ": the base has " + std::to_string(decimated.base_vertices.size()) +
+               " vertices, not " + std::to_string(o.base_size) + " (no legal collapse left)");
+    bases.push_back({name, base_mesh(decimated), decimated.base_vertices});
+    // The same vertices with the intrinsic connectivity of their Voronoi
+    // regions, when that is a valid base: often better shaped faces.
+    try {
+      TriangleMesh dual = delaunay_base(surface, decimated.base_vertices);
+      dual_bases.push_back(
+          {std::string(name) + ", Voronoi dual", std::move(dual), decimated.base_vertices});
+    } catch (const PartitionError&) {
+      // Too sparse for a disc per region here: the decimation alone competes.
+    }
+  }
+  for (BaseCandidate& dual : dual_bases) bases.push_back(std::move(dual));
+  Json& bj = run.report()["base"];
+  bj["source"] = "decimation";
+  bj["requested_vertices"] = o.base_size;
+  return bases;
+}
+
+// Base vertices without faces: the connectivity is the dual of their
+// geodesic Voronoi regions on the surface (free connectivity).
+BaseCandidate vertex_base(tool::Run& run, const SemiregOptions& o, const TriangleMesh& surface) {
+  run.stage("base");
+  const std::string& name = o.base_vertices.path;
+  std::vector<int> sites;
+  try {
+    const auto entries = o.base_vertices.read();
+    sites = io::resolve_features(entries, surface, int(entries.size()), name);
+  } catch (const io::FileError& e) {
+    throw o.base_vertices.entries ? tool::Failure(e.what()) : tool::reading_failure(name, e);
+  }
+  if (sites.size() < 4)
+    throw tool::Failure(name + ": " + std::to_string(sites.size()) +
+                        " base vertices, a base needs at least 4");
+  TriangleMesh base;
+  try {
+    base = delaunay_base(surface, sites);
+  } catch (const PartitionError& e) {
+    throw tool::Failure(name + ": " + e.what());
+  }
+  Json& bj = run.report()["base"];
+  bj["source"] = "vertices";
+  bj["file"] = name;
+  bj["connectivity"] = "geodesic Voronoi dual";
+  return {"vertices", std::move(base), std::move(sites)};
+}
+
+}  // namespace
+
+SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
+  const std::string& input = o.input.path;
+  if (!o.input.soup) run.add_input(input);
+  if (!o.base.empty() && !o.base.soup) run.add_input(o.base.path);
+  if (!o.base_vertices.empty() && !o.base_vertices.entries) run.add_input(o.base_vertices.path);
+  for (const std::string& out : {o.output, o.write_base, o.dump_patches})
+    if (!out.empty()) run.check_output(out);
+  if (int(!o.base.empty()) + int(!o.base_vertices.empty()) + int(o.base_size != 0) != 1)
+    throw tool::Failure(
+        "semireg: give exactly one of --base BASE, --base-vertices FILE and --base-size N");
+  if (o.levels < 0 || o.levels > 8)
+    throw tool::Failure("semireg: --levels must be 0..8, got " + std::to_string(o.levels));
+  if (o.base_size != 0 && (o.base_size < 4 || o.base_size > (std::size_t(1) << 24)))
+    throw tool::Failure("semireg: --base-size must be 4.." + std::to_string(1 << 24) + ", got " +
+                        std::to_string(o.base_size));
+  tool::check_settings("semireg", o.map, o.mesh_file);
+
+  const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
+
+  // Candidate bases: the user's, or decimations with different priorities
+  // (which one suits a surface best is not predictable: each is mapped to a
+  // coarse level and the lowest energy wins).
+  std::vector<BaseCandidate> bases;
+  if (!o.base.empty()) {
+    auto [base, features] = user_base(run, o, surface);
+    bases.push_back({"file", std::move(base), std::move(features)});
+  } else if (!o.base_vertices.empty()) {
+    bases.push_back(vertex_base(run, o, surface));
+  } else {
+    bases = decimated_bases(run, o, surface);
+  }
+
+  // Each base traced on its own core; progress follows the first.
+  tool::Progress& partition_progress = run.stage("partition");
+  std::vector<std::optional<PathNetwork>> networks(bases.size());
+  std::vector<std::string> errors(bases.size());
+  tbb::parallel_for(std::size_t(0), bases.size(), [&](std::size_t i) {
+    PartitionOptions options;
+    if (i == 0) options.progress = [&](double f) { partition_progress.update(f); };
+    try {
+      networks[i] = trace_path_network(surface, bases[i].mesh, bases[i].features, options);
+    } catch (const PartitionError& e) {
+      errors[i] = e.what();
+    }
+  });
+  std::vector<std::size_t> candidate_base;  // the base of each candidate
+  std::string first_error;
+  for (std::size_t i = 0; i < bases.size(); ++i) {
+    if (networks[i])
+      candidate_base.push_back(i);
+    else if (first_error.empty())
+      first_error = errors[i];
+  }
+  if (candidate_base.empty()) throw tool::Failure(input + ": " + first_error);
+
+  tool::Progress& progress = run.stage("map");
+  const auto [chosen, stats] = tool::run_map_stage(
+      run, progress,
+      {.input = input,
+       .dump_patches = o.dump_patches,
+       .hint = "try --hold-features or another base"},
+      o.map,
+      [&](const MapOptions& options) {
+        std::vector<DomainCandidate> candidates;
+        for (std::size_t i : candidate_base)
+          candidates.push_back(
+              {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
+               *networks[i]});
+        return choose_domain(std::move(candidates), options, 5000);
+      },
+      [](const SurfaceMap& m) { return m.measures().forward_efficiency; });
+  const SurfaceMap& map = *chosen->map;
+  const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
+  const TriangleMesh& base = chosen_base.mesh;
+  {
+    Json& bj = run.report()["base"];
+    bj["vertices"] = base.n_vertices();
+    bj["faces"] = base.n_faces();
+    bj["candidates"] = bases.size();
+    bj["chosen"] = chosen_base.name;
+  }
+  run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
+
+  const MetaMesh meta = tool::validate_map(run, map);
+
+  run.stage("sample");
+  const MapSampler sampler(map);
+  SemiregResult result;
+  TriangleMesh& remesh = result.remesh;
+  remesh = semiregular_mesh(base, o.levels, [&](int f, const Eigen::Vector3d& bary) {
+    const auto s = sampler.surface_point(f, bary);
+    if (!s) throw std::runtime_error("a sample fell outside the map");
+    return s->position;
+  });
+  // The base actually used: its vertices where the map puts them.
+  TriangleMesh& used_base = result.base;
+  used_base = base;
+  for (std::size_t v = 0; v < used_base.n_vertices(); ++v)
+    used_base.positions[v] = remesh.positions[v];
+
+  run.stage("write");
+  tool::write_meta_mesh_output(run, o.map, meta);
+  tool::write_output(run, o.output, [&](const std::filesystem::path& p) {
+    io::write_mesh_file(remesh, p, o.mesh_file);
+  });
+  tool::write_output(run, o.write_base, [&](const std::filesystem::path& p) {
+    io::write_mesh_file(used_base, p, o.mesh_file);
+  });
+
+  run.stage("measure");
+  const MapMeasures m = map.measures();
+  const SurfaceDistance distance = surface_distance(surface, remesh);
+  Json& r = run.report();
+  r["levels"] = o.levels;
+  r["metric"] = "equilateral";
+  r["map"] = map_report(map, m, stats);
+  Json& sj = r["remesh"];
+  sj["vertices"] = remesh.n_vertices();
+  sj["faces"] = remesh.n_faces();
+  const std::size_t flipped = flipped_faces(remesh);
+  sj["flipped_triangles"] = flipped;
+  r["distance"] = distance_report(distance);
+  run.note((o.output.empty() ? input : o.output) + ": " + std::to_string(remesh.n_faces()) +
+           " faces (" + std::to_string(base.n_faces()) + " base faces, level " +
+           std::to_string(o.levels) + "); map efficiency " + fixed(m.forward_efficiency, 3) +
+           " (symmetric " + fixed(m.symmetric_efficiency, 3) + "), " + std::to_string(flipped) +
+           " flipped triangles, PSNR " + fixed(distance.psnr_db, 1) + " dB");
+  return result;
+}
+
+}  // namespace ism::pipeline

@@ -1,0 +1,130 @@
+"""gim_remesh from Python is the gim-remesh tool: the same image bit for bit,
+the same remesh and figures, from a path or from arrays; its .glb meshes
+(plain and Draco-compressed) hold the remesh and pass the Khronos validator."""
+import json
+import struct
+
+import numpy as np
+import pytest
+
+import ism
+from conftest import run_tool
+
+SIZE = 33
+DETERMINISTIC_SECTIONS = ("inputs", "features_released", "curvature_weight", "partition", "meta_mesh",
+                          "size", "metric", "map", "image", "distance")
+
+
+@pytest.fixture(scope="module")
+def runs(meshes, tmp_path_factory):
+    """The tool and the module on the same surface, with the same options."""
+    out = tmp_path_factory.mktemp("gim")
+    blob = meshes["blob"]
+    status, _, err = run_tool("gim-remesh", blob, "-o", out / "cli.exr", "--size", SIZE, "--mesh",
+                              out / "cli.obj", "--report", out / "cli.json", "-q")
+    assert status == 0, err
+    from_path = ism.gim_remesh(blob, size=SIZE, output=out / "py.exr", mesh=out / "py.glb",
+                               quiet=True)
+    from_arrays = ism.gim_remesh(*ism.read_mesh(blob), size=SIZE, quiet=True)
+    return out, from_path, from_arrays
+
+
+def test_the_image_is_the_tools_bit_for_bit(runs):
+    out, r, _ = runs
+    assert r.image.shape == (SIZE, SIZE, 3) and r.image.dtype == np.float64
+    cli = ism.read_geometry_image(out / "cli.exr")
+    assert cli.dtype == np.float32 and cli.shape == (SIZE, SIZE, 3)
+    # The EXR stores the samples as float32: the same bits.
+    assert np.array_equal(r.image.astype(np.float32).view(np.uint32), cli.view(np.uint32))
+    assert np.array_equal(ism.read_geometry_image(out / "py.exr").view(np.uint32),
+                          cli.view(np.uint32))
+
+
+def test_arrays_in_give_the_same_image_as_a_path(runs):
+    _, r, r2 = runs
+    assert np.array_equal(r.image.view(np.uint64), r2.image.view(np.uint64))
+    assert np.array_equal(r.vertices, r2.vertices) and np.array_equal(r.faces, r2.faces)
+
+
+def test_the_remesh_and_the_figures_are_the_tools(runs):
+    out, r, _ = runs
+    n = SIZE
+    assert r.vertices.shape == ((n - 1) ** 2 + 2, 3) and r.faces.shape == (2 * (n - 1) ** 2, 3)
+    # The OBJ holds 17 digits; the reader (OpenMesh) parses them as float32.
+    V, F = ism.read_mesh(out / "cli.obj")
+    assert np.array_equal(V, r.vertices.astype(np.float32)) and np.array_equal(F, r.faces)
+    Vi, Fi = ism.geometry_image_mesh(r.image)
+    assert np.array_equal(Vi, r.vertices) and np.array_equal(Fi, r.faces)
+    cli = json.loads((out / "cli.json").read_text())
+    for section in DETERMINISTIC_SECTIONS:
+        assert r.report[section] == cli[section], section
+    for variant, cli_variant in zip(r.report["map_variants"], cli["map_variants"]):
+        variant.pop("seconds"), cli_variant.pop("seconds")
+        assert variant == cli_variant
+    assert r.report["map"]["valid"] and r.report["meta_mesh"]["valid"]
+    assert r.report["image"]["efficiency_square"] > 0.5
+    assert r.report["distance"]["psnr_db"] > 40
+    assert set(r.report["seconds"]) >= {"read", "check", "partition", "map", "sample", "total"}
+    # Unit normals at every sample.
+    assert np.allclose(np.linalg.norm(r.normals, axis=2), 1)
+
+
+def glb_chunks(path):
+    """The JSON and BIN chunks of a glTF binary file."""
+    data = path.read_bytes()
+    magic, version, length = struct.unpack_from("<4sII", data, 0)
+    assert (magic, version, length) == (b"glTF", 2, len(data))
+    chunks, offset = {}, 12
+    while offset < len(data):
+        size, kind = struct.unpack_from("<I4s", data, offset)
+        chunks[kind] = data[offset + 8:offset + 8 + size]
+        offset += 8 + size
+    return json.loads(chunks[b"JSON"]), chunks.get(b"BIN\0")
+
+
+def read_plain_glb(path):
+    """Positions and triangles of a one-primitive, uncompressed .glb."""
+    gltf, binary = glb_chunks(path)
+    primitive = gltf["meshes"][0]["primitives"][0]
+    assert primitive.get("mode", 4) == 4  # triangles
+
+    def accessor(index, components):
+        a = gltf["accessors"][index]
+        view = gltf["bufferViews"][a["bufferView"]]
+        dtype = {5126: np.float32, 5125: np.uint32, 5123: np.uint16, 5121: np.uint8}[a["componentType"]]
+        start = view.get("byteOffset", 0) + a.get("byteOffset", 0)
+        values = np.frombuffer(binary, dtype, a["count"] * components, start)
+        return values.reshape(-1, components) if components > 1 else values, a
+
+    positions, position_accessor = accessor(primitive["attributes"]["POSITION"], 3)
+    indices, _ = accessor(primitive["indices"], 1)
+    assert np.allclose(position_accessor["min"], positions.min(axis=0))
+    assert np.allclose(position_accessor["max"], positions.max(axis=0))
+    return positions, indices.reshape(-1, 3)
+
+
+def test_the_glb_holds_the_remesh(runs):
+    out, r, _ = runs
+    positions, triangles = read_plain_glb(out / "py.glb")
+    assert len(triangles) == len(r.faces)
+    # Corner by corner, the float32 of each remesh position, faces in order.
+    assert np.array_equal(positions[triangles], r.vertices[r.faces].astype(np.float32))
+
+
+def test_write_mesh_glb_plain_and_draco(runs, tmp_path):
+    _, r, _ = runs
+    ism.write_mesh(tmp_path / "plain.glb", r.vertices, r.faces)
+    ism.write_mesh(tmp_path / "draco.glb", r.vertices, r.faces, glb_draco=True, draco_bits=12)
+    positions, triangles = read_plain_glb(tmp_path / "plain.glb")
+    assert np.array_equal(positions[triangles], r.vertices[r.faces].astype(np.float32))
+    gltf, _ = glb_chunks(tmp_path / "draco.glb")
+    assert "KHR_draco_mesh_compression" in gltf["extensionsRequired"]
+    assert (tmp_path / "draco.glb").stat().st_size * 2 < (tmp_path / "plain.glb").stat().st_size
+
+
+def test_every_glb_passes_the_khronos_validator(runs, tmp_path, validate_gltf):
+    out, r, _ = runs
+    ism.write_mesh(tmp_path / "plain.glb", r.vertices, r.faces)
+    ism.write_mesh(tmp_path / "draco.glb", r.vertices, r.faces, glb_draco=True)
+    reports = validate_gltf([out / "py.glb", tmp_path / "plain.glb", tmp_path / "draco.glb"])
+    assert [report["errors"] for report in reports] == [0, 0, 0]
