@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the build and test dependencies from Debian 12's packages.
-# Does nothing when they are all present already.
+# Does nothing when they are all present already. Then the viewer's npm
+# packages (scripts/viewer-deps.sh).
 set -euo pipefail
 
 packages=(
@@ -8,19 +9,27 @@ packages=(
   libopenmesh-dev libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
   libopenexr-dev libopenimageio-dev openimageio-tools libdraco-dev
   libtbb-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev
+  # ism-batch's test runs shards through GNU parallel; the viewer's test
+  # renders in headless Chromium (about 120 MB, 20 s to install).
+  parallel chromium
 )
+# The viewer's vendoring and test scripts run on Node.js (any Debian 12 one).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -eq 0 ]; then
-  exit 0
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}" >&2
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-echo "install-deps: installing ${missing[*]}" >&2
-sudo=""
-if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+# The viewer's three.js (vendored into viewer/vendor/) and its test's
+# playwright-core, from the npm registry at the versions of package-lock.json.
+"$(dirname "$0")/viewer-deps.sh"
