@@ -57,7 +57,7 @@ std::vector<BatchEntry> read_batch_list(const fs::path& list) {
     const std::size_t tab = line.find('\t', first);
     std::string path = line.substr(first, tab == std::string::npos ? tab : tab - first);
     while (!path.empty() && path.back() == ' ') path.pop_back();
-    e.path = fs::absolute(path).lexically_normal();
+    e.path = fs::absolute(path);
     e.name = tab == std::string::npos ? e.path.stem().string() : line.substr(tab + 1);
     if (e.name.empty() || e.name == "." || e.name == ".." || e.name.front() == '.' ||
         e.name.find_first_of("/\t\n") != std::string::npos)
@@ -373,15 +373,19 @@ BatchSummary run_batch(const BatchOptions& options,
     line["tool"] = options.tool;
     const std::string report = slurp(work / "report.json");
     std::string error;
-    if (r.timed_out)
-      error = "timed out after " + std::to_string(int(std::ceil(options.timeout_seconds))) + " s";
-    else if (r.term_signal)
+    if (r.timed_out) {
+      std::ostringstream t;
+      t << "timed out after " << options.timeout_seconds << " s";
+      error = t.str();
+    } else if (r.term_signal) {
       error = "killed by " + signal_name(r.term_signal);
-    else if (r.exit_code != 0)
+    } else if (r.exit_code != 0) {
       error = last_line(slurp(work / "stderr.txt"));
-    if (r.exit_code != 0 && !r.timed_out && error.empty())
-      error = options.tool + " exited with status " + std::to_string(r.exit_code);
-    if (error.empty() && report.empty()) error = options.tool + " wrote no report";
+      if (error.empty())
+        error = options.tool + " exited with status " + std::to_string(r.exit_code);
+    } else if (report.empty()) {
+      error = options.tool + " wrote no report";
+    }
     const bool ok = error.empty();
     line["status"] = ok ? "ok" : r.timed_out ? "timeout" : "failed";
     line["error"] = ok ? OrderedJson(nullptr) : OrderedJson(error);
