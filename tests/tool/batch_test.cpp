@@ -85,8 +85,7 @@ TEST(BatchList, NamesCommentsAndRefusals) {
   EXPECT_EQ(entries[1].path, fs::path("/data/b/other.ply"));
   EXPECT_EQ(entries[2].name, "c_model");
   std::ofstream(dir / "relative.txt") << "sub/mesh.obj\n";
-  EXPECT_EQ(read_batch_list(dir / "relative.txt")[0].path,
-            (fs::current_path() / "sub/mesh.obj").lexically_normal());
+  EXPECT_EQ(read_batch_list(dir / "relative.txt")[0].path, fs::current_path() / "sub/mesh.obj");
 
   std::ofstream(dir / "twice.txt") << "/a/model.obj\n# x\n/b/model.obj\n";
   EXPECT_EQ(failure_of([&] { read_batch_list(dir / "twice.txt"); }),
