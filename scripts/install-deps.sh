@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the build and test dependencies from Debian 12's packages, then
-# the npm packages the tests use (scripts/install-node-tools.sh). Does nothing
-# when they are all present already.
+# the npm packages the tests use (scripts/install-node-tools.sh) and the
+# viewer's (scripts/viewer-deps.sh). Does nothing when all are present.
 set -euo pipefail
 
 packages=(
@@ -11,7 +11,12 @@ packages=(
   libtbb-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # ism-batch's test runs shards through GNU parallel; the viewer's test
+  # renders in headless Chromium (about 120 MB, 20 s to install).
+  parallel chromium
 )
+# The viewer's vendoring and test scripts run on Node.js (any Debian 12 one).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -30,3 +35,6 @@ fi
 # that use it skip with a message, the rest still run.
 "$(dirname "$0")/install-node-tools.sh" ||
   echo "install-deps: warning: the npm packages could not be installed; the glTF validation tests will skip" >&2
+# The viewer's three.js (vendored into viewer/vendor/) and its test's
+# playwright-core, from the npm registry at the versions of package-lock.json.
+"$(dirname "$0")/viewer-deps.sh"
