@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
+#include <unordered_map>
 
 namespace ism::io {
 
@@ -90,6 +92,218 @@ std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries,
     features[slot] = vertex;
   }
   return features;
+}
+
+}  // namespace ism::io
+
+// ---- Feature pairs and landmark lists ------------------------------------
+//
+// Hostile input: lines are read with a length cap, numbers must be finite,
+// indices are checked against the surface before use, and nothing is sized
+// from the file's own figures (the pair count is bounded by the surfaces:
+// a vertex may be paired once only).
+
+namespace ism::io {
+namespace {
+
+constexpr std::size_t kMaxLine = 4096;
+
+class LineReader {
+ public:
+  explicit LineReader(const std::filesystem::path& path) : path_(path), in_(path) {
+    if (!in_) throw FileError(path.string() + ": cannot open the file");
+  }
+  /// The next line without its comment, split into numbers; false at the end.
+  bool next(std::vector<double>& values) {
+    std::string line;
+    char c;
+    bool any = false;
+    while (in_.get(c)) {
+      any = true;
+      if (c == '\n') break;
+      if (line.size() >= kMaxLine)
+        throw FileError(where() + ": line longer than " + std::to_string(kMaxLine) + " characters");
+      line.push_back(c);
+    }
+    if (!any) {
+      if (in_.bad()) throw FileError(path_.string() + ": read error");
+      return false;
+    }
+    ++number_;
+    if (auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
+    values.clear();
+    std::istringstream words(line);
+    std::string word;
+    while (words >> word) {
+      char* end = nullptr;
+      const double v = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
+        throw FileError(where() + ": '" + word + "' is not a finite number");
+      values.push_back(v);
+    }
+    return true;
+  }
+  std::string where() const { return path_.string() + ":" + std::to_string(number_); }
+  int line() const { return number_; }
+
+ private:
+  std::filesystem::path path_;
+  std::ifstream in_;
+  int number_ = 0;
+};
+
+int vertex_index(const LineReader& reader, double v, const TriangleMesh& mesh, char side) {
+  if (v != std::floor(v))
+    throw FileError(reader.where() + ": " + std::to_string(v) + " is not a vertex index");
+  if (v < 0 || v >= double(mesh.n_vertices()))
+    throw FileError(reader.where() + ": vertex index " + std::to_string((long long)(v)) + " of " +
+                    side + " out of range (" + side + " has " + std::to_string(mesh.n_vertices()) +
+                    " vertices)");
+  return int(v);
+}
+
+int nearest_vertex(const TriangleMesh& mesh, const Vec3& p) {
+  int best = -1;
+  double best_d = HUGE_VAL;
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v) {
+    const double d = (mesh.positions[v] - p).squaredNorm();
+    if (d < best_d) best_d = d, best = int(v);
+  }
+  return best;
+}
+
+// Collects pairs and refuses a vertex paired twice, naming both lines.
+class PairSet {
+ public:
+  void add(const std::string& where, int line, int a, int b) {
+    for (int side = 0; side < 2; ++side) {
+      const int v = side ? b : a;
+      auto [it, fresh] = line_of_[side].emplace(v, line);
+      if (!fresh)
+        throw FileError(where + ": vertex " + std::to_string(v) + " of " + (side ? "B" : "A") +
+                        " is already paired on line " + std::to_string(it->second));
+    }
+    result.pairs.push_back({a, b});
+    result.lines.push_back(line);
+  }
+  FeaturePairs result;
+
+ private:
+  std::array<std::unordered_map<int, int>, 2> line_of_;
+};
+
+}  // namespace
+
+FeaturePairs read_feature_pairs(const std::filesystem::path& path, const TriangleMesh& a,
+                                const TriangleMesh& b) {
+  LineReader reader(path);
+  PairSet set;
+  std::vector<double> v;
+  while (reader.next(v)) {
+    if (v.empty()) continue;
+    int ia, ib;
+    if (v.size() == 2) {
+      ia = vertex_index(reader, v[0], a, 'A');
+      ib = vertex_index(reader, v[1], b, 'B');
+    } else if (v.size() == 6) {
+      if (a.n_vertices() == 0 || b.n_vertices() == 0)
+        throw FileError(reader.where() + ": a surface has no vertices");
+      ia = nearest_vertex(a, Vec3(v[0], v[1], v[2]));
+      ib = nearest_vertex(b, Vec3(v[3], v[4], v[5]));
+    } else {
+      throw FileError(reader.where() + ": expected 'IA IB' or 'XA YA ZA XB YB ZB', found " +
+                      std::to_string(v.size()) + " numbers");
+    }
+    set.add(reader.where(), reader.line(), ia, ib);
+  }
+  return std::move(set.result);
+}
+
+namespace {
+
+struct Landmark {
+  int vertex;
+  int line;
+  std::optional<long> id;
+};
+
+// One landmark list; all its lines of one kind (index, point, or id + point).
+std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const TriangleMesh& mesh,
+                                     char side) {
+  LineReader reader(path);
+  std::vector<Landmark> out;
+  std::size_t kind = 0;
+  std::map<long, int> id_line;
+  std::vector<double> v;
+  while (reader.next(v)) {
+    if (v.empty()) continue;
+    if (v.size() != 1 && v.size() != 3 && v.size() != 4)
+      throw FileError(reader.where() + ": expected 'INDEX', 'X Y Z' or 'ID X Y Z', found " +
+                      std::to_string(v.size()) + " numbers");
+    if (kind && v.size() != kind)
+      throw FileError(reader.where() + ": " + std::to_string(v.size()) +
+                      " numbers where the lines before have " + std::to_string(kind));
+    kind = v.size();
+    if (out.size() >= mesh.n_vertices())
+      throw FileError(reader.where() + ": more landmarks than " + side + " has vertices");
+    Landmark l{-1, reader.line(), std::nullopt};
+    if (kind == 1) {
+      l.vertex = vertex_index(reader, v[0], mesh, side);
+    } else {
+      if (mesh.n_vertices() == 0) throw FileError(reader.where() + ": the surface has no vertices");
+      const std::size_t first = kind == 4 ? 1 : 0;
+      l.vertex = nearest_vertex(mesh, Vec3(v[first], v[first + 1], v[first + 2]));
+      if (kind == 4) {
+        if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e15)
+          throw FileError(reader.where() + ": landmark id " + std::to_string(v[0]) +
+                          " is not an integer");
+        l.id = long(v[0]);
+        auto [it, fresh] = id_line.emplace(*l.id, reader.line());
+        if (!fresh)
+          throw FileError(reader.where() + ": landmark id " + std::to_string(*l.id) +
+                          " already given on line " + std::to_string(it->second));
+      }
+    }
+    out.push_back(l);
+  }
+  return out;
+}
+
+}  // namespace
+
+FeaturePairs read_landmark_pairs(const std::filesystem::path& path_a, const TriangleMesh& a,
+                                 const std::filesystem::path& path_b, const TriangleMesh& b) {
+  const std::vector<Landmark> la = read_landmarks(path_a, a, 'A');
+  const std::vector<Landmark> lb = read_landmarks(path_b, b, 'B');
+  const bool by_id_a = !la.empty() && la.front().id, by_id_b = !lb.empty() && lb.front().id;
+  if (!la.empty() && !lb.empty() && by_id_a != by_id_b)
+    throw FileError(path_a.string() + ", " + path_b.string() +
+                    ": one list pairs by id (ID X Y Z), the other by line order");
+  PairSet set;
+  if (by_id_a && by_id_b) {
+    std::map<long, const Landmark*> of_b;
+    for (const Landmark& l : lb) of_b[*l.id] = &l;
+    std::size_t matched = 0;
+    for (const Landmark& l : la) {
+      auto it = of_b.find(*l.id);
+      if (it == of_b.end()) continue;
+      ++matched;
+      set.add(
+          path_a.string() + ":" + std::to_string(l.line) + " (id " + std::to_string(*l.id) + ")",
+          l.line, l.vertex, it->second->vertex);
+    }
+    set.result.unmatched = la.size() + lb.size() - 2 * matched;
+    return std::move(set.result);
+  }
+  if (la.size() != lb.size())
+    throw FileError(path_a.string() + " has " + std::to_string(la.size()) + " landmarks, " +
+                    path_b.string() + " has " + std::to_string(lb.size()) +
+                    "; lists paired by line order need the same length");
+  for (std::size_t k = 0; k < la.size(); ++k)
+    set.add(path_a.string() + ":" + std::to_string(la[k].line) + " and " + path_b.string() + ":" +
+                std::to_string(lb[k].line),
+            la[k].line, la[k].vertex, lb[k].vertex);
+  return std::move(set.result);
 }
 
 }  // namespace ism::io
