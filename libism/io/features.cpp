@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -152,12 +153,23 @@ class LineReader {
   int number_ = 0;
 };
 
-int vertex_index(const LineReader& reader, double v, const TriangleMesh& mesh, char side) {
+// A number as the file wrote it, near enough: integers in full, others %g.
+std::string number_text(double v) {
+  char text[64];
+  if (std::abs(v) < 1e15 && v == std::floor(v))
+    std::snprintf(text, sizeof text, "%.0f", v);
+  else
+    std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+int vertex_index(const LineReader& reader, double v, const TriangleMesh& mesh,
+                 const std::string& side) {
   if (v != std::floor(v))
-    throw FileError(reader.where() + ": " + std::to_string(v) + " is not a vertex index");
+    throw FileError(reader.where() + ": " + number_text(v) + " is not a vertex index");
   if (v < 0 || v >= double(mesh.n_vertices()))
-    throw FileError(reader.where() + ": vertex index " + std::to_string((long long)(v)) + " of " +
-                    side + " out of range (" + side + " has " + std::to_string(mesh.n_vertices()) +
+    throw FileError(reader.where() + ": vertex index " + number_text(v) + " of " + side +
+                    " out of range (" + side + " has " + std::to_string(mesh.n_vertices()) +
                     " vertices)");
   return int(v);
 }
@@ -175,12 +187,13 @@ int nearest_vertex(const TriangleMesh& mesh, const Vec3& p) {
 // Collects pairs and refuses a vertex paired twice, naming both lines.
 class PairSet {
  public:
+  explicit PairSet(const std::array<std::string, 2>& names) : names_(names) {}
   void add(const std::string& where, int line, int a, int b) {
     for (int side = 0; side < 2; ++side) {
       const int v = side ? b : a;
       auto [it, fresh] = line_of_[side].emplace(v, line);
       if (!fresh)
-        throw FileError(where + ": vertex " + std::to_string(v) + " of " + (side ? "B" : "A") +
+        throw FileError(where + ": vertex " + std::to_string(v) + " of " + names_[side] +
                         " is already paired on line " + std::to_string(it->second));
     }
     result.pairs.push_back({a, b});
@@ -189,22 +202,23 @@ class PairSet {
   FeaturePairs result;
 
  private:
+  std::array<std::string, 2> names_;
   std::array<std::unordered_map<int, int>, 2> line_of_;
 };
 
 }  // namespace
 
 FeaturePairs read_feature_pairs(const std::filesystem::path& path, const TriangleMesh& a,
-                                const TriangleMesh& b) {
+                                const TriangleMesh& b, const std::array<std::string, 2>& names) {
   LineReader reader(path);
-  PairSet set;
+  PairSet set(names);
   std::vector<double> v;
   while (reader.next(v)) {
     if (v.empty()) continue;
     int ia, ib;
     if (v.size() == 2) {
-      ia = vertex_index(reader, v[0], a, 'A');
-      ib = vertex_index(reader, v[1], b, 'B');
+      ia = vertex_index(reader, v[0], a, names[0]);
+      ib = vertex_index(reader, v[1], b, names[1]);
     } else if (v.size() == 6) {
       if (a.n_vertices() == 0 || b.n_vertices() == 0)
         throw FileError(reader.where() + ": a surface has no vertices");
@@ -229,7 +243,7 @@ struct Landmark {
 
 // One landmark list; all its lines of one kind (index, point, or id + point).
 std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const TriangleMesh& mesh,
-                                     char side) {
+                                     const std::string& side) {
   LineReader reader(path);
   std::vector<Landmark> out;
   std::size_t kind = 0;
@@ -255,7 +269,7 @@ std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const Tr
       l.vertex = nearest_vertex(mesh, Vec3(v[first], v[first + 1], v[first + 2]));
       if (kind == 4) {
         if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e15)
-          throw FileError(reader.where() + ": landmark id " + std::to_string(v[0]) +
+          throw FileError(reader.where() + ": landmark id " + number_text(v[0]) +
                           " is not an integer");
         l.id = long(v[0]);
         auto [it, fresh] = id_line.emplace(*l.id, reader.line());
@@ -272,14 +286,15 @@ std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const Tr
 }  // namespace
 
 FeaturePairs read_landmark_pairs(const std::filesystem::path& path_a, const TriangleMesh& a,
-                                 const std::filesystem::path& path_b, const TriangleMesh& b) {
-  const std::vector<Landmark> la = read_landmarks(path_a, a, 'A');
-  const std::vector<Landmark> lb = read_landmarks(path_b, b, 'B');
+                                 const std::filesystem::path& path_b, const TriangleMesh& b,
+                                 const std::array<std::string, 2>& names) {
+  const std::vector<Landmark> la = read_landmarks(path_a, a, names[0]);
+  const std::vector<Landmark> lb = read_landmarks(path_b, b, names[1]);
   const bool by_id_a = !la.empty() && la.front().id, by_id_b = !lb.empty() && lb.front().id;
   if (!la.empty() && !lb.empty() && by_id_a != by_id_b)
     throw FileError(path_a.string() + ", " + path_b.string() +
                     ": one list pairs by id (ID X Y Z), the other by line order");
-  PairSet set;
+  PairSet set(names);
   if (by_id_a && by_id_b) {
     std::map<long, const Landmark*> of_b;
     for (const Landmark& l : lb) of_b[*l.id] = &l;

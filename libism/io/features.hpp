@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -43,14 +44,14 @@ struct FeaturePairs {
   std::size_t unmatched = 0;
 };
 
-/// Reads a pairs file: one pair per line, `IA IB` (0-based vertex indices of
-/// A and B) or `XA YA ZA XB YB ZB` (points, each snapped to the nearest vertex
-/// of its surface); '#' starts a comment. Throws FileError naming the file
-/// and line for a malformed line, a non-finite number, an index out of range,
-/// a vertex paired twice, or a line longer than 4096 characters. An empty
-/// file gives no pairs (callers that need pairs say so).
+/// Reads a pairs file (`names`: the surfaces in messages): one pair per line, `IA IB` (0-based
+/// vertex indices of A and B) or `XA YA ZA XB YB ZB` (points, each snapped to the nearest vertex of
+/// its surface); '#' starts a comment. Throws FileError naming the file and line for a malformed
+/// line, a non-finite number, an index out of range, a vertex paired twice, or a line longer than
+/// 4096 characters. An empty file gives no pairs (callers that need pairs say so).
 FeaturePairs read_feature_pairs(const std::filesystem::path& path, const TriangleMesh& a,
-                                const TriangleMesh& b);
+                                const TriangleMesh& b,
+                                const std::array<std::string, 2>& names = {"A", "B"});
 
 /// Reads two landmark lists, one per surface, and pairs them: lines are
 /// `INDEX` (0-based vertex) or `X Y Z` (a point snapped to the nearest
@@ -59,6 +60,7 @@ FeaturePairs read_feature_pairs(const std::filesystem::path& path, const Triangl
 /// in one list only counted in `unmatched`. Same errors as read_feature_pairs,
 /// plus lists of different lengths or kinds, and an id given twice.
 FeaturePairs read_landmark_pairs(const std::filesystem::path& path_a, const TriangleMesh& a,
-                                 const std::filesystem::path& path_b, const TriangleMesh& b);
+                                 const std::filesystem::path& path_b, const TriangleMesh& b,
+                                 const std::array<std::string, 2>& names = {"A", "B"});
 
 }  // namespace ism::io

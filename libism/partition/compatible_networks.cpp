@@ -212,6 +212,11 @@ class CompatibleTracer {
   void generate_face(int face, bool exhaustive);
   bool stale(const Candidate& c) const;
   bool pop(Phase phase, Candidate& out);
+  struct Offence {
+    int feature;              // a neighbouring feature
+    std::array<int, 2> side;  // its side of the path on A and on B
+  };
+  std::optional<Offence> offence(const Candidate& c);
   bool wrong_side(const Candidate& c);
   std::optional<Candidate> reroute(const Candidate& c);
 
@@ -739,24 +744,91 @@ bool CompatibleTracer::pop(Phase phase, Candidate& out) {
 
 // The paper's second swirl heuristic: a neighbouring feature (among the
 // nearest of either end) that lies on different sides of the two paths.
-bool CompatibleTracer::wrong_side(const Candidate& c) {
+std::optional<CompatibleTracer::Offence> CompatibleTracer::offence(const Candidate& c) {
   std::set<int> neighbours;
   for (int f : {c.i, c.j})
     for (std::size_t k = 0; k < nearest_[f].size() && k < 4; ++k) neighbours.insert(nearest_[f][k]);
   neighbours.erase(c.i);
   neighbours.erase(c.j);
-  for (int n : neighbours) {
-    if (features_[n].centre_of >= 0) continue;
-    const int a = surf_[0].side_of(c.path[0], features_[n].v[0]);
-    const int b = surf_[1].side_of(c.path[1], features_[n].v[1]);
-    if (a * b < 0) return true;
-  }
-  return false;
+  std::vector<int> listed;
+  std::array<std::vector<int>, 2> vertices;
+  for (int n : neighbours)
+    if (features_[n].centre_of < 0) {
+      listed.push_back(n);
+      for (int s = 0; s < 2; ++s) vertices[s].push_back(features_[n].v[s]);
+    }
+  if (listed.empty()) return std::nullopt;
+  const std::vector<int> a = surf_[0].sides_of(c.path[0], vertices[0]);
+  const std::vector<int> b = surf_[1].sides_of(c.path[1], vertices[1]);
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (a[k] * b[k] < 0) return Offence{listed[k], {a[k], b[k]}};
+  return std::nullopt;
 }
 
+bool CompatibleTracer::wrong_side(const Candidate& c) {
+  return offence(c).has_value();
+}
+
+// Re-routes a path that passes a neighbouring feature n on different sides
+// on A and B (paper §4): on one surface, shortest paths from n to both ends
+// are laid as temporary walls, and the path is traced again leaving and
+// entering its features on the side of those walls that puts n where the
+// other surface has it. Both surfaces are tried; the shorter pair is kept.
 std::optional<Candidate> CompatibleTracer::reroute(const Candidate& c) {
-  (void)c;
-  return std::nullopt;
+  if (c.lasso || c.i == c.j) return std::nullopt;
+  const auto off = offence(c);
+  if (!off) return std::nullopt;
+  std::optional<Candidate> best;
+  for (int s = 0; s < 2; ++s) {
+    NetworkSurface& surf = surf_[s];
+    const int want = off->side[1 - s];
+    const int n = features_[off->feature].v[s];
+    // Walls from n to each end, under the usual rules.
+    std::vector<std::vector<int>> walls;
+    for (int f : {c.i, c.j}) {
+      SearchEnd from{n, {}, {}};
+      for (int w : surf.ring(n))
+        if (surf.may_leave_through(n, w)) from.ring.push_back(w), from.sector.push_back(0);
+      auto wall = surf.shortest_path(from, end_at(s, f, -1));
+      if (!wall) break;
+      surf.add_path(wall->vertices);
+      walls.push_back(std::move(wall->vertices));
+    }
+    std::optional<TracedPath> path;
+    if (walls.size() == 2) {
+      // The part of the end's sector on the wanted side of its wall.
+      auto split_end = [&](int f, int k, const std::vector<int>& wall, bool leaving) {
+        SearchEnd e = end_at(s, f, k);
+        const int v = features_[f].v[s];
+        const int t = wall[wall.size() - 2];  // the wall's last step into f
+        const auto& rot = rot_[f];
+        if (rot.empty()) return e;
+        const int start = first_step(rot[k], s), stop = first_step(rot[(k + 1) % rot.size()], s);
+        // n left of the path: the wall lies counter-clockwise after the
+        // path where it leaves, before it where it enters.
+        const bool before_wall = leaving == (want > 0);
+        const std::vector<int> keep =
+            before_wall ? surf.ring_between(v, start, t) : surf.ring_between(v, t, stop);
+        SearchEnd out{e.vertex, {}, {}};
+        for (std::size_t q = 0; q < e.ring.size(); ++q)
+          if (std::find(keep.begin(), keep.end(), e.ring[q]) != keep.end())
+            out.ring.push_back(e.ring[q]), out.sector.push_back(e.sector[q]);
+        return out;
+      };
+      path = surf.shortest_path(split_end(c.i, c.ki, walls[0], true),
+                                split_end(c.j, c.kj, walls[1], false));
+    }
+    for (const auto& wall : walls) surf.remove_path(wall);
+    if (!path) continue;
+    if (surf.sides_of(path->vertices, {n})[0] != want) continue;
+    Candidate r = c;
+    r.path[s] = std::move(path->vertices);
+    r.wrong_side = false;
+    finish_candidate(r);
+    r.version = c.version;
+    if (!best || r.length < best->length) best = std::move(r);
+  }
+  return best;
 }
 
 // ---------------------------------------------------------------------------
@@ -1199,19 +1271,24 @@ CompatibleNetworks trace_compatible_networks(const TriangleMesh& a, const Triang
                                              const std::vector<std::array<int, 2>>& pairs,
                                              const CompatibleOptions& options) {
   const std::array<const TriangleMesh*, 2> surfaces{&a, &b};
-  const char* const name[2] = {"A", "B"};
+  const std::array<std::string, 2>& name = options.names;
   for (int s = 0; s < 2; ++s)
-    if (surfaces[s]->n_faces() == 0) throw PartitionError(std::string(name[s]) + " has no faces");
+    if (surfaces[s]->n_faces() == 0) throw PartitionError(name[s] + " has no faces");
+  auto loops_text = [](std::size_t n) {
+    return std::to_string(n) + (n == 1 ? " boundary loop" : " boundary loops");
+  };
 
   // Topology.
   std::array<std::vector<std::vector<int>>, 2> loops{boundary_loops(a), boundary_loops(b)};
   const std::array<int, 2> genus{genus_of(a, loops[0].size()), genus_of(b, loops[1].size())};
   if (genus[0] != genus[1])
-    throw PartitionError("A has genus " + std::to_string(genus[0]) + ", B genus " +
-                         std::to_string(genus[1]) + ": no continuous map joins them");
+    throw PartitionError(name[0] + " has genus " + std::to_string(genus[0]) + ", " + name[1] +
+                         " genus " + std::to_string(genus[1]) +
+                         ": no continuous map joins surfaces of different genus");
   if (loops[0].size() != loops[1].size())
-    throw PartitionError("A has " + std::to_string(loops[0].size()) + " boundary loops, B " +
-                         std::to_string(loops[1].size()) + ": no continuous map joins them");
+    throw PartitionError(name[0] + " has " + loops_text(loops[0].size()) + ", " + name[1] + " " +
+                         loops_text(loops[1].size()) +
+                         ": no continuous map joins surfaces with different boundaries");
 
   // Pairs: in range, no vertex twice, boundary to boundary.
   std::array<std::vector<int>, 2> loop_of;  // per vertex, -1 off the boundary
@@ -1404,7 +1481,7 @@ std::optional<std::string> validate_compatible(const CompatibleNetworks& n) {
   for (int s = 0; s < 2; ++s) {
     const PathNetwork& net = n.networks[s];
     if (auto problem = validate_network(net, base))
-      return std::string(s ? "B" : "A") + ": " + *problem;
+      return std::string(s ? "B" : "A") + ": " + *problem;  // surfaces as in the call
     for (std::size_t i = 0; i < n.features.size(); ++i)
       if (net.features[i] != n.features[i].vertex[s])
         return "feature " + std::to_string(i) + " is not the network's";

@@ -42,6 +42,8 @@ struct CompatibleOptions {
   /// when only those are left the best is re-routed on the side it has on the
   /// other surface.
   bool swirl_heuristics = true;
+  /// Names of the two surfaces in messages (e.g. their files).
+  std::array<std::string, 2> names{"A", "B"};
 };
 
 /// The networks on closed copies of the surfaces in which every boundary

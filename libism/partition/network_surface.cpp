@@ -334,7 +334,8 @@ std::vector<EdgeSet> NetworkSurface::complement_cycles() const {
   return cycles;
 }
 
-int NetworkSurface::side_of(const std::vector<int>& path, int v) {
+std::vector<int> NetworkSurface::sides_of(const std::vector<int>& path,
+                                          const std::vector<int>& vertices) {
   const std::size_t n = mesh_.n_vertices();
   if (distance_.size() < 2 * n) {
     distance_.resize(2 * n);
@@ -345,38 +346,46 @@ int NetworkSurface::side_of(const std::vector<int>& path, int v) {
     std::fill(stamp_.begin(), stamp_.end(), 0);
     search_ = 1;
   }
-  std::unordered_map<int, std::size_t> index;  // interior path vertex -> position
-  for (std::size_t k = 1; k + 1 < path.size(); ++k) index[path[k]] = k;
-  if (index.empty()) return 0;
+  // parent_ holds the side (+1, -1, 0 from an end) each vertex is reached from.
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  stamp_[v] = search_;
-  distance_[v] = 0;
-  parent_[v] = -1;
-  open.push({0.0, v});
-  while (!open.empty()) {
+  auto reach = [&](int w, double d, int side) {
+    if (stamp_[w] == search_ && distance_[w] <= d) return;
+    stamp_[w] = search_;
+    distance_[w] = d;
+    parent_[w] = side;
+    open.push({d, w});
+  };
+  const std::unordered_set<int> on_path(path.begin(), path.end());
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    const int p = path[k];
+    const bool end = k == 0 || k + 1 == path.size();
+    // Counter-clockwise from the next path vertex, the left side comes
+    // before the previous one.
+    const std::vector<int> left =
+        end ? std::vector<int>{} : ring_between(p, path[k + 1], path[k - 1]);
+    for (int w : ring(p)) {
+      if (on_path.count(w)) continue;
+      const int side = end ? 0 : std::find(left.begin(), left.end(), w) != left.end() ? +1 : -1;
+      reach(w, (positions_[w] - positions_[p]).norm(), side);
+    }
+  }
+  std::unordered_set<int> wanted(vertices.begin(), vertices.end());
+  for (int v : vertices)
+    if (on_path.count(v)) wanted.erase(v);
+  while (!open.empty() && !wanted.empty()) {
     const auto [d, u] = open.top();
     open.pop();
     if (d > distance_[u]) continue;
-    if (const auto it = index.find(u); it != index.end()) {
-      // Counter-clockwise from the next path vertex, the left side comes
-      // before the previous one.
-      const std::vector<int> left = ring_between(u, path[it->second + 1], path[it->second - 1]);
-      return std::find(left.begin(), left.end(), parent_[u]) != left.end() ? +1 : -1;
-    }
-    if (u == path.front() || u == path.back()) continue;  // around an end: no side
+    wanted.erase(u);
     for (const auto w_handle : mesh_.vv_range(Mesh::VertexHandle(u))) {
       const int w = w_handle.idx();
-      const double dw = d + (positions_[w] - positions_[u]).norm();
-      if (stamp_[w] != search_ || dw < distance_[w]) {
-        stamp_[w] = search_;
-        distance_[w] = dw;
-        parent_[w] = u;
-        open.push({dw, w});
-      }
+      if (!on_path.count(w)) reach(w, d + (positions_[w] - positions_[u]).norm(), parent_[u]);
     }
   }
-  return 0;
+  std::vector<int> out;
+  for (int v : vertices) out.push_back(!on_path.count(v) && stamp_[v] == search_ ? parent_[v] : 0);
+  return out;
 }
 
 TriangleMesh NetworkSurface::triangle_mesh() const {

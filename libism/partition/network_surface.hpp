@@ -109,9 +109,10 @@ class NetworkSurface {
   /// it crosses every curve an even number of times.
   std::vector<EdgeSet> complement_cycles() const;
 
-  /// Which side of `path` vertex `v` lies on: +1 left, -1 right, 0 when its
-  /// shortest route (ignoring the network) meets the path only at an end.
-  int side_of(const std::vector<int>& path, int v);
+  /// Which side of `path` each vertex of `vertices` lies on: +1 left, -1
+  /// right, 0 when its shortest route (ignoring the network) meets the path
+  /// at an end. One search from the path outwards.
+  std::vector<int> sides_of(const std::vector<int>& path, const std::vector<int>& vertices);
 
   /// Positions and faces as they are now (Steiner vertices included).
   TriangleMesh triangle_mesh() const;

@@ -41,12 +41,12 @@ int run_partition(const Options& o, const tool::CommonOptions& common) {
   io::FeaturePairs pairs;
   try {
     if (!o.features.empty()) {
-      pairs = io::read_feature_pairs(o.features, a, b);
+      pairs = io::read_feature_pairs(o.features, a, b, {o.a, o.b});
       if (pairs.pairs.empty())
         throw tool::Failure(o.features +
                             ": no feature pairs (omit --features for automatic features)");
     } else if (!o.landmarks.empty()) {
-      pairs = io::read_landmark_pairs(o.landmarks[0], a, o.landmarks[1], b);
+      pairs = io::read_landmark_pairs(o.landmarks[0], a, o.landmarks[1], b, {o.a, o.b});
       if (pairs.pairs.empty())
         throw tool::Failure(o.landmarks[0] + ", " + o.landmarks[1] +
                             ": no landmark pairs (omit --landmarks for automatic features)");
@@ -60,14 +60,13 @@ int run_partition(const Options& o, const tool::CommonOptions& common) {
   tool::Progress& progress = run.stage("partition");
   CompatibleOptions options;
   options.swirl_heuristics = !o.no_swirl;
+  options.names = {o.a, o.b};
   options.progress = [&](double f) { progress.update(f); };
   CompatibleNetworks networks;
   try {
     networks = trace_compatible_networks(a, b, pairs.pairs, options);
   } catch (const PartitionError& e) {
-    const std::string what = e.what();
-    // Topology and pair errors name the files.
-    throw tool::Failure(o.a + ", " + o.b + ": " + what);
+    throw tool::Failure(std::string("ism-partition: ") + e.what());
   }
 
   tool::Progress& pm_progress = run.stage("progressive meshes");
