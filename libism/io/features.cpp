@@ -123,7 +123,8 @@ class LineReader {
       any = true;
       if (c == '\n') break;
       if (line.size() >= kMaxLine)
-        throw FileError(where() + ": line longer than " + std::to_string(kMaxLine) + " characters");
+        throw FileError(path_.string() + ":" + std::to_string(number_ + 1) + ": line longer than " +
+                        std::to_string(kMaxLine) + " characters");
       line.push_back(c);
     }
     if (!any) {

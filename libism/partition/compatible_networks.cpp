@@ -94,8 +94,9 @@ struct Candidate {
   int ki = -1, kj = -1;  // sectors at i and j
   std::array<std::vector<int>, 2> path;
   bool wrong_side = false, side_checked = false;
-  bool needs_split = false;  // a loop, or two features already joined
-  bool lasso = false;        // path: a stem from i to a new feature; cycle: a loop there
+  std::size_t checked_with = 0;  // features when the sides were checked
+  bool needs_split = false;      // a loop, or two features already joined
+  bool lasso = false;            // path: a stem from i to a new feature; cycle: a loop there
   std::array<std::vector<int>, 2> cycle;
   std::uint64_t version = 0;
   int face_dart = -1;     // disc phase: a dart of the face the path splits
@@ -211,6 +212,7 @@ class CompatibleTracer {
   void generate(Phase phase, bool exhaustive);
   void generate_face(int face, bool exhaustive);
   bool stale(const Candidate& c) const;
+  bool paths_free(const Candidate& c) const;
   bool pop(Phase phase, Candidate& out);
   struct Offence {
     int feature;              // a neighbouring feature
@@ -258,6 +260,7 @@ class CompatibleTracer {
   std::array<std::vector<EdgeSet>, 2> cycles_;
   std::priority_queue<Candidate, std::vector<Candidate>, LaterFirst> queue_;
   std::set<std::tuple<int, int, int, int>> rejected_;  // until the next insertion
+  std::map<std::pair<int, int>, Candidate> traced_;    // disc phase: by corner darts
 };
 
 // ---------------------------------------------------------------------------
@@ -685,10 +688,41 @@ void CompatibleTracer::generate_face(int face, bool exhaustive) {
     }
   const auto& chosen = !near.empty() && !exhaustive ? near : !all.empty() ? all : blocked;
   for (const auto& [da, db] : chosen) {
-    const int i = tail(da), j = tail(db);
-    if (rejected_.count({i, position(da), j, position(db)})) continue;
-    if (auto c = trace_fixed(i, position(da), j, position(db))) queue_.push(std::move(*c));
+    const int i = tail(da), j = tail(db), ki = position(da), kj = position(db);
+    if (rejected_.count({i, ki, j, kj})) continue;
+    // A pair traced before for these corners is kept while it is still free
+    // and leaves and enters through the same corners (paper: lazy
+    // revalidation); the face it splits may have shrunk meanwhile.
+    auto cached = traced_.find({da, db});
+    if (cached != traced_.end()) {
+      Candidate& c = cached->second;
+      bool valid = c.i == i && c.j == j && paths_free(c);
+      for (int s = 0; s < 2 && valid; ++s)
+        valid = sector_of(s, i, c.path[s][1]) == ki &&
+                sector_of(s, j, c.path[s][c.path[s].size() - 2]) == kj;
+      if (valid) {
+        c.ki = ki, c.kj = kj;
+        c.needs_split = joined(i, j);
+        c.face = darts;
+        std::sort(c.face.begin(), c.face.end());
+        if (c.checked_with != features_.size()) c.side_checked = c.wrong_side = false;
+        queue_.push(c);
+        continue;
+      }
+      traced_.erase(cached);
+    }
+    if (auto c = trace_fixed(i, ki, j, kj)) {
+      traced_[{da, db}] = *c;
+      queue_.push(std::move(*c));
+    }
   }
+}
+
+bool CompatibleTracer::paths_free(const Candidate& c) const {
+  for (int s = 0; s < 2; ++s)
+    for (std::size_t k = 1; k + 1 < c.path[s].size(); ++k)
+      if (surf_[s].on_network(c.path[s][k])) return false;
+  return true;
 }
 
 bool CompatibleTracer::stale(const Candidate& c) const {
@@ -712,6 +746,19 @@ bool CompatibleTracer::pop(Phase phase, Candidate& out) {
       generate_face(face_of_dart_[c.face_dart], false);
       continue;
     }
+    if (stale(c) && phase == Phase::tree && paths_free(c)) {
+      // Still free: valid if both still leave and enter in one corner.
+      const int ki = sector_of(0, c.i, c.path[0][1]);
+      const int kj = sector_of(0, c.j, c.path[0][c.path[0].size() - 2]);
+      if (ki == sector_of(1, c.i, c.path[1][1]) &&
+          kj == sector_of(1, c.j, c.path[1][c.path[1].size() - 2])) {
+        c.ki = ki, c.kj = kj;
+        c.version = version_;
+        if (c.checked_with != features_.size()) c.side_checked = c.wrong_side = false;
+        queue_.push(std::move(c));
+        continue;
+      }
+    }
     if (stale(c)) {
       if (phase == Phase::discs) continue;  // its face was split: new ones are queued
       auto fresh = c.i == c.j ? trace_lasso(c.i) : trace_free(c.i, c.j, phase == Phase::cycles);
@@ -720,6 +767,7 @@ bool CompatibleTracer::pop(Phase phase, Candidate& out) {
     }
     if (options_.swirl_heuristics && !c.side_checked && phase != Phase::cycles) {
       c.side_checked = true;
+      c.checked_with = features_.size();
       c.wrong_side = wrong_side(c);
       if (c.wrong_side) {
         ++swirl_delays;
@@ -1272,8 +1320,19 @@ CompatibleNetworks trace_compatible_networks(const TriangleMesh& a, const Triang
                                              const CompatibleOptions& options) {
   const std::array<const TriangleMesh*, 2> surfaces{&a, &b};
   const std::array<std::string, 2>& name = options.names;
-  for (int s = 0; s < 2; ++s)
+  for (int s = 0; s < 2; ++s) {
     if (surfaces[s]->n_faces() == 0) throw PartitionError(name[s] + " has no faces");
+    std::vector<char> used(surfaces[s]->n_vertices(), 0);
+    for (const Triangle& t : surfaces[s]->triangles)
+      for (int v : t) {
+        if (v < 0 || std::size_t(v) >= used.size())
+          throw PartitionError(name[s] + ": a face has a vertex index out of range");
+        used[v] = 1;
+      }
+    if (const auto it = std::find(used.begin(), used.end(), 0); it != used.end())
+      throw PartitionError(name[s] + ": vertex " + std::to_string(it - used.begin()) +
+                           " belongs to no face");
+  }
   auto loops_text = [](std::size_t n) {
     return std::to_string(n) + (n == 1 ? " boundary loop" : " boundary loops");
   };
