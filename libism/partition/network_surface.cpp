@@ -133,21 +133,21 @@ std::size_t NetworkSurface::split_blocked_edges() {
   }
 }
 
-int NetworkSurface::count_regions() const {
-  std::vector<int> region(mesh_.n_faces(), -1);
+int count_regions(const TracerMesh& mesh, const std::unordered_set<std::uint64_t>& cuts) {
+  std::vector<int> region(mesh.n_faces(), -1);
   int count = 0;
-  std::vector<Mesh::FaceHandle> stack;
-  for (auto f0 : mesh_.faces()) {
+  std::vector<TracerMesh::FaceHandle> stack;
+  for (auto f0 : mesh.faces()) {
     if (region[f0.idx()] >= 0) continue;
     region[f0.idx()] = count;
     stack.push_back(f0);
     while (!stack.empty()) {
       const auto f = stack.back();
       stack.pop_back();
-      for (auto h : mesh_.fh_range(f)) {
-        const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
-        if (network_edges_.count(undirected_key(a, b))) continue;
-        const auto g = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
+      for (auto h : mesh.fh_range(f)) {
+        const int a = mesh.from_vertex_handle(h).idx(), b = mesh.to_vertex_handle(h).idx();
+        if (cuts.count(undirected_key(a, b))) continue;
+        const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
         if (g.is_valid() && region[g.idx()] < 0) {
           region[g.idx()] = count;
           stack.push_back(g);
@@ -157,6 +157,22 @@ int NetworkSurface::count_regions() const {
     ++count;
   }
   return count;
+}
+
+int NetworkSurface::count_regions() const {
+  return partition_detail::count_regions(mesh_, network_edges_);
+}
+
+void NetworkSurface::next_search(std::size_t n) {
+  if (distance_.size() < 2 * n) {
+    distance_.resize(2 * n);
+    parent_.resize(2 * n);
+    stamp_.resize(2 * n, 0);
+  }
+  if (++search_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    search_ = 1;
+  }
 }
 
 double NetworkSurface::length(const std::vector<int>& path) const {
@@ -169,16 +185,7 @@ double NetworkSurface::length(const std::vector<int>& path) const {
 std::optional<TracedPath> NetworkSurface::shortest_path(const SearchEnd& from, const SearchEnd& to,
                                                         const ParityRule* parity, double bound,
                                                         bool allow_repeats) {
-  const std::size_t n = mesh_.n_vertices();
-  if (distance_.size() < 2 * n) {
-    distance_.resize(2 * n);
-    parent_.resize(2 * n);
-    stamp_.resize(2 * n, 0);
-  }
-  if (++search_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    search_ = 1;
-  }
+  next_search(mesh_.n_vertices());
   constexpr int kStart = -1;
   const int source = from.vertex, target = to.vertex;
   const bool loop = source == target;
@@ -336,16 +343,7 @@ std::vector<EdgeSet> NetworkSurface::complement_cycles() const {
 
 std::vector<int> NetworkSurface::sides_of(const std::vector<int>& path,
                                           const std::vector<int>& vertices) {
-  const std::size_t n = mesh_.n_vertices();
-  if (distance_.size() < 2 * n) {
-    distance_.resize(2 * n);
-    parent_.resize(2 * n);
-    stamp_.resize(2 * n, 0);
-  }
-  if (++search_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0);
-    search_ = 1;
-  }
+  next_search(mesh_.n_vertices());
   // parent_ holds the side (+1, -1, 0 from an end) each vertex is reached from.
   using Item = std::pair<double, int>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;

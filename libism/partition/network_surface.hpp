@@ -11,7 +11,7 @@
 // clipping the paths at the loops later leaves them disjoint.
 #include "mesh/triangle_mesh.hpp"
 
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include "partition/tracer_mesh.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -118,14 +118,9 @@ class NetworkSurface {
   TriangleMesh triangle_mesh() const;
 
  private:
-  struct Traits : OpenMesh::DefaultTraits {
-    using Point = OpenMesh::Vec3d;
-    VertexAttributes(OpenMesh::Attributes::None);
-    FaceAttributes(OpenMesh::Attributes::None);
-    EdgeAttributes(OpenMesh::Attributes::None);
-    HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
-  };
-  using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
+  using Mesh = TracerMesh;
+  /// Fresh search marks for n vertices on two sheets.
+  void next_search(std::size_t n);
 
   bool is_loop_edge(Mesh::EdgeHandle e) const;
   bool blocked(int v) const { return on_network_[v] || class_[v] != VertexClass::interior; }

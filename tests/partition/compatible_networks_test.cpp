@@ -6,6 +6,7 @@
 #include "io/features.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
+#include "open_surfaces.hpp"
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
@@ -44,24 +45,8 @@ std::size_t added(const CompatibleNetworks& n) {
   return count;
 }
 
-// The faces whose centroid satisfies `keep`, unused vertices dropped.
 TriangleMesh cut(const TriangleMesh& mesh, const std::function<bool(const Vec3&)>& keep) {
-  TriangleMesh out;
-  std::vector<int> index(mesh.n_vertices(), -1);
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3 c = (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) / 3.0;
-    if (!keep(c)) continue;
-    Triangle u;
-    for (int k = 0; k < 3; ++k) {
-      if (index[t[k]] < 0) {
-        index[t[k]] = int(out.positions.size());
-        out.positions.push_back(mesh.positions[t[k]]);
-      }
-      u[k] = index[t[k]];
-    }
-    out.triangles.push_back(u);
-  }
-  return out;
+  return test::keep_faces(mesh, keep);
 }
 
 // A vertex on the boundary, the one with the largest coordinate `axis`.

@@ -3,6 +3,7 @@
 // non-zero exit and no output file.
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
+#include "open_surfaces.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
 #include "tools_support.hpp"
@@ -34,22 +35,8 @@ const Files& files() {
     ism::io::write_mesh(ism::shapes::sphere(1500), out.sphere);
     ism::io::write_mesh(ism::shapes::ellipsoid(2500, {2, 1, 0.7}), out.ellipsoid);
     ism::io::write_mesh(ism::shapes::torus(2000), out.torus);
-    ism::TriangleMesh sphere = ism::shapes::sphere(1500), disc;
-    std::vector<int> index(sphere.n_vertices(), -1);
-    for (const auto& t : sphere.triangles) {
-      if (sphere.positions[t[0]].z() + sphere.positions[t[1]].z() + sphere.positions[t[2]].z() >
-          1.5)
-        continue;
-      ism::Triangle u;
-      for (int k = 0; k < 3; ++k) {
-        if (index[t[k]] < 0) {
-          index[t[k]] = int(disc.positions.size());
-          disc.positions.push_back(sphere.positions[t[k]]);
-        }
-        u[k] = index[t[k]];
-      }
-      disc.triangles.push_back(u);
-    }
+    const ism::TriangleMesh disc = ism::test::keep_faces(
+        ism::shapes::sphere(1500), [](const ism::Vec3& c) { return c.z() < 0.5; });
     ism::io::write_mesh(disc, out.disc);
     return out;
   }();
