@@ -220,6 +220,7 @@ FeaturePairs read_feature_pairs(const std::filesystem::path& path, const Triangl
     if (v.size() == 2) {
       ia = vertex_index(reader, v[0], a, names[0]);
       ib = vertex_index(reader, v[1], b, names[1]);
+      ++set.result.by_index;
     } else if (v.size() == 6) {
       if (a.n_vertices() == 0 || b.n_vertices() == 0)
         throw FileError(reader.where() + ": a surface has no vertices");
@@ -240,6 +241,7 @@ struct Landmark {
   int vertex;
   int line;
   std::optional<long> id;
+  bool by_index = false;
 };
 
 // One landmark list; all its lines of one kind (index, point, or id + point).
@@ -264,6 +266,7 @@ std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const Tr
     Landmark l{-1, reader.line(), std::nullopt};
     if (kind == 1) {
       l.vertex = vertex_index(reader, v[0], mesh, side);
+      l.by_index = true;
     } else {
       if (mesh.n_vertices() == 0) throw FileError(reader.where() + ": the surface has no vertices");
       const std::size_t first = kind == 4 ? 1 : 0;
@@ -319,6 +322,8 @@ FeaturePairs read_landmark_pairs(const std::filesystem::path& path_a, const Tria
     set.add(path_a.string() + ":" + std::to_string(la[k].line) + " and " + path_b.string() + ":" +
                 std::to_string(lb[k].line),
             la[k].line, la[k].vertex, lb[k].vertex);
+  for (std::size_t k = 0; k < la.size(); ++k)
+    set.result.by_index += la[k].by_index || lb[k].by_index;
   return std::move(set.result);
 }
 

@@ -42,6 +42,8 @@ struct FeaturePairs {
   std::vector<int> lines;
   /// Landmarks of `ID X Y Z` lists whose ID is in one list only (skipped).
   std::size_t unmatched = 0;
+  /// Pairs whose vertices were given as indices (not as points).
+  std::size_t by_index = 0;
 };
 
 /// Reads a pairs file (`names`: the surfaces in messages): one pair per line, `IA IB` (0-based

@@ -44,10 +44,11 @@
 #include "partition/network_surface.hpp"
 #include "partition/patches.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <numeric>
 #include <queue>
@@ -111,6 +112,13 @@ struct LaterFirst {
   }
 };
 
+// Runs fn(0) and fn(1), the same work on surface A and on B, side by side:
+// the two surfaces share nothing that either call writes.
+template <class Fn>
+void on_both(const Fn& fn) {
+  tbb::parallel_invoke([&] { fn(0); }, [&] { fn(1); });
+}
+
 class CompatibleTracer {
  public:
   CompatibleTracer(const std::array<const TriangleMesh*, 2>& surfaces,
@@ -137,14 +145,17 @@ class CompatibleTracer {
   const NetworkSurface& surface(int s) const { return surf_[s]; }
   const std::vector<Feature>& features() const { return features_; }
   const std::vector<Edge>& edges() const { return edges_; }
-  std::size_t candidates_traced = 0, sector_conflicts = 0, swirl_delays = 0, reroutes = 0;
+  std::atomic<std::size_t> candidates_traced = 0;
+  std::size_t sector_conflicts = 0, swirl_delays = 0, reroutes = 0;
 
   /// Features on a loop are joined to the loop's centre first (one cap edge
   /// each), in the loop's order; the orders must agree on both surfaces.
   void connect_boundary_features();
   void prepare() {
-    for (int s = 0; s < 2; ++s) surf_[s].split_blocked_edges();
-    regions_ = {surf_[0].count_regions(), surf_[1].count_regions()};
+    on_both([&](int s) {
+      surf_[s].split_blocked_edges();
+      regions_[s] = surf_[s].count_regions();
+    });
   }
   void run();
   void clip_boundaries();
@@ -207,7 +218,6 @@ class CompatibleTracer {
                                                           const TracedPath& walk) const;
   std::optional<Candidate> trace_lasso(int i);
   int sector_of(int s, int f, int w) const;
-  void debug_stuck();
   void finish_candidate(Candidate& c) const;
   void generate(Phase phase, bool exhaustive);
   void generate_face(int face, bool exhaustive);
@@ -499,7 +509,8 @@ std::optional<std::array<std::vector<int>, 2>> CompatibleTracer::lasso_of(
 std::optional<Candidate> CompatibleTracer::trace_lasso(int i) {
   if (auto loop = trace_free(i, i, true)) return loop;
   if (features_[i].centre_of >= 0) return std::nullopt;  // a stem would run along the loop
-  std::array<std::optional<TracedPath>, 2> walk{odd_walk(0, i, -1), odd_walk(1, i, -1)};
+  std::array<std::optional<TracedPath>, 2> walk;
+  on_both([&](int s) { walk[s] = odd_walk(s, i, -1); });
   if (!walk[0] || !walk[1]) return std::nullopt;
   std::array<std::optional<std::array<std::vector<int>, 2>>, 2> lasso{lasso_of(0, i, *walk[0]),
                                                                       lasso_of(1, i, *walk[1])};
@@ -536,30 +547,6 @@ std::optional<Candidate> CompatibleTracer::trace_lasso(int i) {
   return c;
 }
 
-void CompatibleTracer::debug_stuck() {
-  for (std::size_t f = 0; f < faces_.size(); ++f) {
-    if (faces_[f].size() <= 3) continue;
-    std::fprintf(stderr, "face %zu:", f);
-    for (int d : faces_[f]) std::fprintf(stderr, " %d", tail(d));
-    std::fprintf(stderr, "\n");
-    const auto& darts = faces_[f];
-    for (std::size_t a = 0; a < darts.size(); ++a)
-      for (std::size_t b = a + 2; b < darts.size(); ++b) {
-        if (a == 0 && b == darts.size() - 1) continue;
-        const int i = tail(darts[a]), j = tail(darts[b]);
-        auto pos = [&](int d) {
-          const auto& rot = rot_[tail(d)];
-          return int(std::find(rot.begin(), rot.end(), d) - rot.begin());
-        };
-        auto pa = trace_on(0, i, pos(darts[a]), j, pos(darts[b]), false);
-        auto pb = trace_on(1, i, pos(darts[a]), j, pos(darts[b]), false);
-        std::fprintf(stderr, "  %d(%d)-%d(%d): joined %d same_loop %d A %s B %s\n", i,
-                     pos(darts[a]), j, pos(darts[b]), int(joined(i, j)), int(on_same_loop(i, j)),
-                     pa ? "ok" : "none", pb ? "ok" : "none");
-      }
-  }
-}
-
 void CompatibleTracer::finish_candidate(Candidate& c) const {
   c.length = surf_[0].length(c.path[0]) + surf_[1].length(c.path[1]);
   const bool extreme = options_.swirl_heuristics && (extremity_[c.i] || extremity_[c.j]);
@@ -569,18 +556,23 @@ void CompatibleTracer::finish_candidate(Candidate& c) const {
 
 std::optional<Candidate> CompatibleTracer::trace_free(int i, int j, bool cycle) {
   if (on_same_loop(i, j)) return std::nullopt;
-  auto pa = trace_on(0, i, -1, j, -1, cycle);
-  if (!pa) return std::nullopt;
-  auto pb = trace_on(1, i, -1, j, -1, cycle);
-  if (!pb) return std::nullopt;
+  std::array<std::optional<TracedPath>, 2> p;
+  on_both([&](int s) { p[s] = trace_on(s, i, -1, j, -1, cycle); });
+  auto& pa = p[0];
+  auto& pb = p[1];
+  if (!pa || !pb) return std::nullopt;
   Candidate c;
   c.i = i, c.j = j;
   if (pa->leave_sector != pb->leave_sector || pa->enter_sector != pb->enter_sector) {
     // The two shortest paths use different corners: impose each side's
     // corners on the other and keep the better pair.
     ++sector_conflicts;
-    auto pb2 = trace_on(1, i, pa->leave_sector, j, pa->enter_sector, cycle);
-    auto pa2 = trace_on(0, i, pb->leave_sector, j, pb->enter_sector, cycle);
+    std::array<std::optional<TracedPath>, 2> q;
+    on_both([&](int s) {
+      q[s] = trace_on(s, i, p[1 - s]->leave_sector, j, p[1 - s]->enter_sector, cycle);
+    });
+    auto& pa2 = q[0];
+    auto& pb2 = q[1];
     const double first = pb2 ? pa->length + pb2->length : INFINITY;
     const double second = pa2 ? pa2->length + pb->length : INFINITY;
     if (!std::isfinite(first) && !std::isfinite(second)) return std::nullopt;
@@ -597,10 +589,11 @@ std::optional<Candidate> CompatibleTracer::trace_free(int i, int j, bool cycle) 
 }
 
 std::optional<Candidate> CompatibleTracer::trace_fixed(int i, int ki, int j, int kj) {
-  auto pa = trace_on(0, i, ki, j, kj, false);
-  if (!pa) return std::nullopt;
-  auto pb = trace_on(1, i, ki, j, kj, false);
-  if (!pb) return std::nullopt;
+  std::array<std::optional<TracedPath>, 2> p;
+  on_both([&](int s) { p[s] = trace_on(s, i, ki, j, kj, false); });
+  auto& pa = p[0];
+  auto& pb = p[1];
+  if (!pa || !pb) return std::nullopt;
   Candidate c;
   c.i = i, c.j = j, c.ki = ki, c.kj = kj;
   c.path = {std::move(pa->vertices), std::move(pb->vertices)};
@@ -806,8 +799,10 @@ std::optional<CompatibleTracer::Offence> CompatibleTracer::offence(const Candida
       for (int s = 0; s < 2; ++s) vertices[s].push_back(features_[n].v[s]);
     }
   if (listed.empty()) return std::nullopt;
-  const std::vector<int> a = surf_[0].sides_of(c.path[0], vertices[0]);
-  const std::vector<int> b = surf_[1].sides_of(c.path[1], vertices[1]);
+  std::array<std::vector<int>, 2> side;
+  on_both([&](int s) { side[s] = surf_[s].sides_of(c.path[s], vertices[s]); });
+  const std::vector<int>& a = side[0];
+  const std::vector<int>& b = side[1];
   for (std::size_t k = 0; k < a.size(); ++k)
     if (a[k] * b[k] < 0) return Offence{listed[k], {a[k], b[k]}};
   return std::nullopt;
@@ -1002,17 +997,14 @@ void CompatibleTracer::restore(const Snapshot& snap,
 // both, and the cyclic orders at `check` agree (a closed edge's two ends
 // may be swapped on B to make them agree).
 bool CompatibleTracer::place(int e, int delta, std::initializer_list<int> check) {
-  for (int s = 0; s < 2; ++s) surf_[s].add_path(edges_[e].path[s]);
-  for (int s = 0; s < 2; ++s) {
-    const int regions = surf_[s].count_regions();
-    if (regions != regions_[s] + delta) {
-      if (std::getenv("ISM_PARTITION_DEBUG"))
-        std::fprintf(stderr, "place %d-%d: surface %d regions %d, expected %d\n", edges_[e].i,
-                     edges_[e].j, s, regions, regions_[s] + delta);
-      return false;
-    }
-    regions_[s] = regions;
-  }
+  std::array<int, 2> regions;
+  on_both([&](int s) {
+    surf_[s].add_path(edges_[e].path[s]);
+    regions[s] = surf_[s].count_regions();
+  });
+  for (int s = 0; s < 2; ++s)
+    if (regions[s] != regions_[s] + delta) return false;
+  regions_ = regions;
   for (int f : check) {
     std::vector<int> ra = geometric_rotation(0, f), rb = geometric_rotation(1, f);
     if (ra != rb && edges_[e].i == edges_[e].j) {
@@ -1020,18 +1012,7 @@ bool CompatibleTracer::place(int e, int delta, std::initializer_list<int> check)
       std::reverse(p.begin(), p.end());
       rb = geometric_rotation(1, f);
     }
-    if (ra != rb) {
-      if (std::getenv("ISM_PARTITION_DEBUG")) {
-        std::fprintf(stderr, "place %d-%d: orders differ at %d:", edges_[e].i, edges_[e].j, f);
-        for (int d : ra) std::fprintf(stderr, " %d", d);
-        std::fprintf(stderr, " vs");
-        for (int d : rb) std::fprintf(stderr, " %d", d);
-        std::fprintf(stderr, " (old");
-        for (int d : rot_[f]) std::fprintf(stderr, " %d", d);
-        std::fprintf(stderr, ")\n");
-      }
-      return false;
-    }
+    if (ra != rb) return false;
     rot_[f] = ra;
   }
   return true;
@@ -1089,7 +1070,7 @@ bool CompatibleTracer::commit(const Candidate& c, Phase phase) {
       edge = int(edges_.size()) - 1;
     }
   }
-  for (int s = 0; s < 2; ++s) surf_[s].split_blocked_edges();
+  on_both([&](int s) { surf_[s].split_blocked_edges(); });
   features_changed();
   ++version_;
   rejected_.clear();
@@ -1148,7 +1129,6 @@ void CompatibleTracer::run() {
         generate(now, exhaustive);
         continue;
       }
-      if (std::getenv("ISM_PARTITION_DEBUG")) debug_stuck();
       const char* what = now == Phase::tree     ? "join the features into one tree"
                          : now == Phase::cycles ? "find a non-separating cycle on both surfaces"
                                                 : "split the patches into triangles";

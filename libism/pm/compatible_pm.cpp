@@ -1,6 +1,8 @@
 // Two progressive meshes to one base (paper §3 step 2).
 #include "pm/pm.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <stdexcept>
 #include <string>
 
@@ -47,18 +49,20 @@ ProgressiveMesh drop_caps(const ProgressiveMesh& capped, const PathNetwork& open
 
 std::array<ProgressiveMesh, 2> simplify_compatible(const CompatibleNetworks& networks,
                                                    const SimplifyOptions& options) {
+  // Both surfaces side by side; progress follows A's.
   std::array<ProgressiveMesh, 2> out;
-  for (int s = 0; s < 2; ++s) {
+  auto simplify = [&](int s) {
     SimplifyOptions side = options;
-    if (options.progress) side.progress = [&, s](double f) { options.progress(0.5 * (s + f)); };
+    if (s) side.progress = nullptr;
     if (networks.capped.loops == 0) {
       out[s] = simplify_constrained(networks.networks[s], networks.base, side);
-      continue;
+      return;
     }
     const ProgressiveMesh capped =
         simplify_constrained(networks.capped.networks[s], networks.capped.base, side);
     out[s] = drop_caps(capped, networks.networks[s], networks.base, networks.capped.loops);
-  }
+  };
+  tbb::parallel_invoke([&] { simplify(0); }, [&] { simplify(1); });
   return out;
 }
 

@@ -37,7 +37,8 @@ void Run::check_output(const std::filesystem::path& path) const {
   OutputFile probe(path, inputs_);
 }
 
-TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs) {
+TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs,
+                               MeshCheck* check) {
   add_input(path);
   stage("read");
   PolygonSoup soup;
@@ -57,6 +58,7 @@ TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequ
   for (const auto& repair : prepared.check.repairs()) note(path.string() + ": " + repair);
   for (const auto& warning : prepared.check.warnings())
     note(path.string() + ": warning: " + warning);
+  if (check) *check = prepared.check;
   return std::move(prepared.mesh);
 }
 
