@@ -105,26 +105,61 @@ bool NetworkSurface::is_loop_edge(Mesh::EdgeHandle e) const {
   return false;
 }
 
-std::size_t NetworkSurface::split_blocked_edges() {
+std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int, 2>>& finished) {
+  // Faces of the finished regions: a flood fill across edges off the network.
+  std::vector<char> frozen(mesh_.n_faces(), 0);
+  std::vector<Mesh::FaceHandle> stack;
+  for (const auto& [a, b] : finished) {
+    const auto h = mesh_.find_halfedge(Mesh::VertexHandle(a), Mesh::VertexHandle(b));
+    if (!h.is_valid() || !mesh_.face_handle(h).is_valid()) continue;
+    if (frozen[mesh_.face_handle(h).idx()]) continue;
+    frozen[mesh_.face_handle(h).idx()] = 1;
+    stack.push_back(mesh_.face_handle(h));
+    while (!stack.empty()) {
+      const auto f = stack.back();
+      stack.pop_back();
+      for (const auto g : mesh_.fh_range(f)) {
+        const int u = mesh_.from_vertex_handle(g).idx(), v = mesh_.to_vertex_handle(g).idx();
+        if (network_edges_.count(undirected_key(u, v))) continue;
+        const auto next = mesh_.face_handle(mesh_.opposite_halfedge_handle(g));
+        if (next.is_valid() && !frozen[next.idx()]) {
+          frozen[next.idx()] = 1;
+          stack.push_back(next);
+        }
+      }
+    }
+  }
   std::size_t added = 0;
   for (;;) {
     std::vector<std::pair<Mesh::EdgeHandle, bool>> to_split;  // edge, on a loop
     for (auto e : mesh_.edges()) {
       const int a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0)).idx();
       const int b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1)).idx();
+      const auto f = mesh_.face_handle(mesh_.halfedge_handle(e, 0));
+      if (f.is_valid() && std::size_t(f.idx()) < frozen.size() && frozen[f.idx()]) continue;
       if (class_[a] == VertexClass::centre || class_[b] == VertexClass::centre) continue;
       if (network_edges_.count(undirected_key(a, b))) continue;
       const bool loop = is_loop_edge(e);
       if (loop ? on_network_[a] && on_network_[b] : blocked(a) && blocked(b))
         to_split.push_back({e, loop});
     }
-    if (to_split.empty()) return added;
+    if (to_split.empty()) {
+      near_network_.assign(mesh_.n_vertices(), 0);
+      for (auto e : mesh_.edges()) {
+        const int a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0)).idx();
+        const int b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1)).idx();
+        near_network_[a] |= on_network_[b];
+        near_network_[b] |= on_network_[a];
+      }
+      return added;
+    }
     for (const auto& [e, loop] : to_split) {
       const auto a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
       const auto b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
       const Vec3 mid = 0.5 * (positions_[a.idx()] + positions_[b.idx()]);
       const auto m = mesh_.add_vertex({mid.x(), mid.y(), mid.z()});
       mesh_.split(e, m);
+      frozen.resize(mesh_.n_faces(), 0);  // faces split off a live region are live
       positions_.push_back(mid);
       class_.push_back(loop ? VertexClass::boundary : VertexClass::interior);
       on_network_.push_back(0);
@@ -242,7 +277,8 @@ std::optional<TracedPath> NetworkSurface::shortest_path(const SearchEnd& from, c
       } else if (class_[w] != VertexClass::interior) {
         continue;
       }
-      const double dw = dv + step(v, w);
+      const bool near = std::size_t(w) < near_network_.size() && near_network_[w];
+      const double dw = dv + (near ? 2 : 1) * step(v, w);
       const int t = 2 * w + (bit ^ crosses(v, w));
       if (stamp_[t] != search_ || dw < distance_[t]) {
         stamp_[t] = search_;

@@ -13,6 +13,7 @@
 
 #include "partition/tracer_mesh.hpp"
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <unordered_set>
@@ -86,19 +87,21 @@ class NetworkSurface {
   /// Steiner vertices: splits every input edge off the network whose two
   /// ends are blocked for paths (on the network, or on a loop, unless the
   /// edge itself is a loop edge whose ends are free), so that every sector
-  /// and every region keeps free vertices to trace through. Returns the
-  /// number of vertices added.
-  std::size_t split_blocked_edges();
+  /// and every region keeps free vertices to trace through. Regions that
+  /// take no more paths are left alone: those left of the directed edges
+  /// `finished` (a, b). Returns the number of vertices added.
+  std::size_t split_blocked_edges(const std::vector<std::array<int, 2>>& finished = {});
 
   /// Regions the network cuts the surface into (flood fill over faces).
   int count_regions() const;
   double length(const std::vector<int>& path) const;
 
   /// Shortest path (A*, normalised lengths) from `from` to `to` through free
-  /// vertices, obeying the loop rules; with a parity rule, on the two-sheeted
-  /// cover that counts crossings. Paths that visit a vertex twice (on both
-  /// sheets) are refused unless `allow_repeats`. Nothing when none exists or
-  /// none is shorter than `bound`.
+  /// vertices, obeying the loop rules, a step onto a vertex next to the
+  /// network counting twice its length (paths keep a vertex away from each
+  /// other where they can, which spares Steiner vertices between them); with a parity rule, on the
+  /// two-sheeted cover that counts crossings. Paths that visit a vertex twice (on both sheets) are
+  /// refused unless `allow_repeats`. Nothing when none exists or none is shorter than `bound`.
   std::optional<TracedPath> shortest_path(const SearchEnd& from, const SearchEnd& to,
                                           const ParityRule* parity = nullptr,
                                           double bound = INFINITY, bool allow_repeats = false);
@@ -129,6 +132,7 @@ class NetworkSurface {
   std::vector<Vec3> positions_;
   std::vector<VertexClass> class_;
   std::vector<char> on_network_;
+  std::vector<char> near_network_;  // a neighbour on the network (as of the last split)
   EdgeSet network_edges_;
   std::size_t input_vertices_ = 0;
   double scale_ = 1;
