@@ -75,4 +75,16 @@ for name in rows:
           f"| {p['a']['steiner_vertices']} / {p['b']['steiner_vertices']} "
           f"| {r['seconds']['partition']:.2f} | {r['seconds']['progressive meshes']:.2f} "
           f"| {wall:.2f} | {cpu:.2f} | {mb:.0f} | {'yes' if ok else 'NO'} |")
+print()
+print("Rows: the six pairs of `../shared/pairs` with all their landmarks; the model pairs of issue 16 "
+      "without pairs (automatic features: four on genus 0 counting each boundary loop's centre, "
+      "one on genus 1 and 2, each pair = the vertex farthest from the features there are, matched "
+      "on the other surface by its geodesic distances to them); fewer pairs than needed (the first "
+      "4 of cat/horse, the first of the vase, vertex 0 of both genus-2 models); and `bunny_dragon`, "
+      "the timing case (~64K faces each, the 6 pairs of `bench/data/bunny__dragon.pairs.txt`: each "
+      "model's extreme vertices along -x, +x, -y, +y, -z, +z, a fixed choice, not anatomical). "
+      "`added` counts automatic features and those the tracing adds (on cycles that would close on "
+      "one feature or join joined ones, on splitting paths between joined features, at boundary "
+      "clip points); the report lists each with its origin. The machine is shared: wall times "
+      "follow its load, the CPU column does not.")
 PY

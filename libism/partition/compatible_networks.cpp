@@ -166,8 +166,8 @@ class CompatibleTracer {
   // ---- the rotation system ----------------------------------------------
   int tail(int d) const { return d % 2 ? edges_[d / 2].j : edges_[d / 2].i; }
   int head(int d) const { return tail(d ^ 1); }
-  /// The feature a dart leaves, on surface s (d_vertex(d, s, 0)).
-  int d_vertex(int d, int s, int) const { return features_[tail(d)].v[s]; }
+  /// The vertex of the feature a dart leaves, on surface s.
+  int tail_vertex(int d, int s) const { return features_[tail(d)].v[s]; }
   int first_step(int d, int s) const {
     const auto& p = edges_[d / 2].path[s];
     return d % 2 ? p[p.size() - 2] : p[1];
@@ -1079,7 +1079,7 @@ bool CompatibleTracer::commit(const Candidate& c, Phase phase) {
   for (std::size_t e = snap.edges; e < edges_.size(); ++e)
     for (int d : {int(2 * e), int(2 * e + 1)}) {
       if (faces_[face_of_dart_[d]].size() != 3) continue;
-      for (int s = 0; s < 2; ++s) finished[s].push_back({d_vertex(d, s, 0), first_step(d, s)});
+      for (int s = 0; s < 2; ++s) finished[s].push_back({tail_vertex(d, s), first_step(d, s)});
     }
   on_both([&](int s) { surf_[s].split_blocked_edges(finished[s]); });
   features_changed();

@@ -1,5 +1,5 @@
 #pragma once
-// Consistent partition of two surfaces (paper §4, steps 1 of §3): path
+// Consistent partition of two surfaces (paper §3 step 1, §4): path
 // networks on surfaces A and B with the same connectivity and the same cyclic
 // order of paths around every feature, cutting both into one disc per face of
 // one common base mesh. The base's connectivity is free: it grows from the
@@ -7,7 +7,9 @@
 #include "partition/partition.hpp"
 
 #include <array>
+#include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
