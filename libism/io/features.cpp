@@ -175,15 +175,68 @@ int vertex_index(const LineReader& reader, double v, const TriangleMesh& mesh,
   return int(v);
 }
 
-int nearest_vertex(const TriangleMesh& mesh, const Vec3& p) {
-  int best = -1;
-  double best_d = HUGE_VAL;
-  for (std::size_t v = 0; v < mesh.n_vertices(); ++v) {
-    const double d = (mesh.positions[v] - p).squaredNorm();
-    if (d < best_d) best_d = d, best = int(v);
+// Nearest vertex to a point through a uniform grid of buckets, built on the
+// first query, so that a file of many points costs no more than the mesh
+// size times a small factor (not points x vertices).
+class NearestVertex {
+ public:
+  explicit NearestVertex(const TriangleMesh& mesh) : mesh_(mesh) {}
+
+  int operator()(const Vec3& p) {
+    if (cells_.empty()) build();
+    Eigen::Vector3i c = cell_of(p);
+    int best = -1;
+    double best_d = HUGE_VAL;
+    const int most = n_.maxCoeff();
+    for (int r = 0; r <= most; ++r) {
+      if (best >= 0 && std::pow(std::max(0, r - 1) * h_, 2) > best_d) break;
+      // The shell of cells at Chebyshev distance r.
+      for (int x = c.x() - r; x <= c.x() + r; ++x)
+        for (int y = c.y() - r; y <= c.y() + r; ++y)
+          for (int z = c.z() - r; z <= c.z() + r; ++z) {
+            if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r)
+              continue;
+            if (x < 0 || y < 0 || z < 0 || x >= n_.x() || y >= n_.y() || z >= n_.z()) continue;
+            for (int v : cells_[std::size_t((x * n_.y() + y) * n_.z() + z)]) {
+              const double d = (mesh_.positions[v] - p).squaredNorm();
+              if (d < best_d) best_d = d, best = v;
+            }
+          }
+    }
+    return best;
   }
-  return best;
-}
+
+ private:
+  void build() {
+    lo_ = Vec3::Constant(HUGE_VAL);
+    Vec3 hi = Vec3::Constant(-HUGE_VAL);
+    for (const Vec3& q : mesh_.positions)
+      if (q.allFinite()) lo_ = lo_.cwiseMin(q), hi = hi.cwiseMax(q);
+    if (!(lo_.x() <= hi.x())) lo_ = hi = Vec3::Zero();
+    const double side = (hi - lo_).maxCoeff();
+    const int per_axis = std::clamp(int(std::cbrt(double(mesh_.n_vertices()))), 1, 128);
+    h_ = side > 0 ? side / per_axis : 1.0;
+    for (int a = 0; a < 3; ++a) n_[a] = std::clamp(int((hi[a] - lo_[a]) / h_) + 1, 1, per_axis + 1);
+    cells_.assign(std::size_t(n_.x()) * n_.y() * n_.z(), {});
+    for (std::size_t v = 0; v < mesh_.n_vertices(); ++v)
+      if (mesh_.positions[v].allFinite()) {
+        const Eigen::Vector3i c = cell_of(mesh_.positions[v]);
+        cells_[std::size_t((c.x() * n_.y() + c.y()) * n_.z() + c.z())].push_back(int(v));
+      }
+  }
+  Eigen::Vector3i cell_of(const Vec3& p) const {
+    Eigen::Vector3i c;
+    for (int a = 0; a < 3; ++a)
+      c[a] = int(std::clamp(std::floor((p[a] - lo_[a]) / h_), 0.0, double(n_[a] - 1)));
+    return c;
+  }
+
+  const TriangleMesh& mesh_;
+  Vec3 lo_ = Vec3::Zero();
+  double h_ = 1;
+  Eigen::Vector3i n_ = Eigen::Vector3i::Ones();
+  std::vector<std::vector<int>> cells_;
+};
 
 // Collects pairs and refuses a vertex paired twice, naming both lines.
 class PairSet {
@@ -213,6 +266,7 @@ FeaturePairs read_feature_pairs(const std::filesystem::path& path, const Triangl
                                 const TriangleMesh& b, const std::array<std::string, 2>& names) {
   LineReader reader(path);
   PairSet set(names);
+  NearestVertex nearest_a(a), nearest_b(b);
   std::vector<double> v;
   while (reader.next(v)) {
     if (v.empty()) continue;
@@ -224,8 +278,8 @@ FeaturePairs read_feature_pairs(const std::filesystem::path& path, const Triangl
     } else if (v.size() == 6) {
       if (a.n_vertices() == 0 || b.n_vertices() == 0)
         throw FileError(reader.where() + ": a surface has no vertices");
-      ia = nearest_vertex(a, Vec3(v[0], v[1], v[2]));
-      ib = nearest_vertex(b, Vec3(v[3], v[4], v[5]));
+      ia = nearest_a(Vec3(v[0], v[1], v[2]));
+      ib = nearest_b(Vec3(v[3], v[4], v[5]));
     } else {
       throw FileError(reader.where() + ": expected 'IA IB' or 'XA YA ZA XB YB ZB', found " +
                       std::to_string(v.size()) + " numbers");
@@ -247,6 +301,7 @@ struct Landmark {
 // One landmark list; all its lines of one kind (index, point, or id + point).
 std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const TriangleMesh& mesh,
                                      const std::string& side) {
+  NearestVertex nearest(mesh);
   LineReader reader(path);
   std::vector<Landmark> out;
   std::size_t kind = 0;
@@ -270,7 +325,7 @@ std::vector<Landmark> read_landmarks(const std::filesystem::path& path, const Tr
     } else {
       if (mesh.n_vertices() == 0) throw FileError(reader.where() + ": the surface has no vertices");
       const std::size_t first = kind == 4 ? 1 : 0;
-      l.vertex = nearest_vertex(mesh, Vec3(v[first], v[first + 1], v[first + 2]));
+      l.vertex = nearest(Vec3(v[first], v[first + 1], v[first + 2]));
       if (kind == 4) {
         if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e15)
           throw FileError(reader.where() + ": landmark id " + number_text(v[0]) +

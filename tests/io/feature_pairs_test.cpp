@@ -2,12 +2,14 @@
 // naming the file and line for each kind of bad line.
 #include "io/features.hpp"
 #include "io/io.hpp"
+#include "shapes/shapes.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <functional>
+#include <sstream>
 
 namespace ism {
 namespace {
@@ -48,6 +50,40 @@ TEST(FeaturePairs, IndexAndPointLines) {
   EXPECT_EQ(p.pairs[1], (std::array<int, 2>{0, 19}));
   EXPECT_EQ(p.pairs[2], (std::array<int, 2>{5, 12}));  // snapped to the nearest vertices
   EXPECT_EQ(p.lines, (std::vector<int>{3, 4, 5}));
+}
+
+TEST(FeaturePairs, PointsSnapToTheNearestVertex) {
+  // Points near and far from a sphere (some outside its bounding box): the
+  // snapped vertex is as near as the nearest one found by brute force.
+  const TriangleMesh a = shapes::sphere(3000), b = shapes::ellipsoid(2000, {3, 1, 0.5});
+  std::ostringstream text;
+  text.precision(17);
+  std::vector<Vec3> pa, pb;
+  std::uint64_t state = 12345;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53) * 8 - 4;
+  };
+  for (int k = 0; k < 300; ++k) {
+    pa.push_back({uniform(), uniform(), uniform()});
+    pb.push_back({uniform(), uniform(), uniform()});
+    text << pa.back().transpose() << ' ' << pb.back().transpose() << '\n';
+  }
+  // Vertices may repeat among 300 random points: read them one line at a time.
+  const std::string all = text.str();
+  std::istringstream lines(all);
+  std::string line;
+  for (int k = 0; std::getline(lines, line); ++k) {
+    const io::FeaturePairs p = io::read_feature_pairs(write("point.txt", line + "\n"), a, b);
+    ASSERT_EQ(p.pairs.size(), 1u);
+    for (int s = 0; s < 2; ++s) {
+      const TriangleMesh& m = s ? b : a;
+      const Vec3& q = s ? pb[k] : pa[k];
+      double best = HUGE_VAL;
+      for (const Vec3& v : m.positions) best = std::min(best, (v - q).squaredNorm());
+      EXPECT_NEAR((m.positions[p.pairs[0][s]] - q).squaredNorm(), best, 1e-9) << "point " << k;
+    }
+  }
 }
 
 TEST(FeaturePairs, EmptyFileHasNoPairs) {
