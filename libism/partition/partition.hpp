@@ -100,7 +100,9 @@ TriangleMesh delaunay_base(const TriangleMesh& surface, const std::vector<int>& 
 
 /// Checks a network: every patch a disc bounded by the three paths of its
 /// domain face with the same orientation, paths disjoint but at features.
-/// Returns the first problem found, or nothing.
+/// An open surface and domain (compatible networks) may have boundaries: the
+/// paths of the domain's boundary edges run along the surface's boundary,
+/// which lies on paths everywhere. Returns the first problem found, or nothing.
 std::optional<std::string> validate_network(const PathNetwork& network, const TriangleMesh& domain);
 
 }  // namespace ism

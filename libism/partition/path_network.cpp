@@ -15,8 +15,7 @@
 #include "mesh/union_find.hpp"
 #include "partition/partition.hpp"
 #include "partition/patches.hpp"
-
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include "partition/tracer_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -30,14 +29,7 @@ namespace {
 
 using namespace partition_detail;
 
-struct Traits : OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  VertexAttributes(OpenMesh::Attributes::None);
-  FaceAttributes(OpenMesh::Attributes::None);
-  EdgeAttributes(OpenMesh::Attributes::None);
-  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
-};
-using Mesh = OpenMesh::TriMesh_ArrayKernelT<Traits>;
+using Mesh = TracerMesh;
 using VH = Mesh::VertexHandle;
 using HH = Mesh::HalfedgeHandle;
 
@@ -442,30 +434,7 @@ bool NetworkTracer::on_wrong_side(const Candidate& c) {
 }
 
 int NetworkTracer::count_regions() const {
-  // Flood fill over faces, across edges that are not on the network.
-  std::vector<int> region(mesh_.n_faces(), -1);
-  int count = 0;
-  std::vector<Mesh::FaceHandle> stack;
-  for (auto f0 : mesh_.faces()) {
-    if (region[f0.idx()] >= 0) continue;
-    region[f0.idx()] = count;
-    stack.push_back(f0);
-    while (!stack.empty()) {
-      auto f = stack.back();
-      stack.pop_back();
-      for (HH h : mesh_.fh_range(f)) {
-        const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
-        if (network_edges_.count(undirected_key(a, b))) continue;
-        auto g = mesh_.face_handle(mesh_.opposite_halfedge_handle(h));
-        if (g.is_valid() && region[g.idx()] < 0) {
-          region[g.idx()] = count;
-          stack.push_back(g);
-        }
-      }
-    }
-    ++count;
-  }
-  return count;
+  return partition_detail::count_regions(mesh_, network_edges_);
 }
 
 void NetworkTracer::insert(const Candidate& c) {

@@ -57,12 +57,17 @@ std::optional<std::string> validate_network(const PathNetwork& network,
   if (network.features.size() != domain.n_vertices()) return "wrong number of features";
   if (network.face_patch.size() != surface.n_faces()) return "face_patch has the wrong size";
 
-  // The domain face on the left of each directed domain edge.
+  // The domain face on the left of each directed domain edge; a boundary
+  // edge of an open domain has a face on one side only.
   std::map<std::pair<int, int>, int> left_face;
+  std::set<std::pair<int, int>> domain_edges;
   for (std::size_t f = 0; f < domain.n_faces(); ++f)
-    for (int k = 0; k < 3; ++k)
-      left_face[{domain.triangles[f][k], domain.triangles[f][(k + 1) % 3]}] = int(f);
-  if (network.domain_edges.size() != left_face.size() / 2 ||
+    for (int k = 0; k < 3; ++k) {
+      const int a = domain.triangles[f][k], b = domain.triangles[f][(k + 1) % 3];
+      left_face[{a, b}] = int(f);
+      domain_edges.insert(std::minmax(a, b));
+    }
+  if (network.domain_edges.size() != domain_edges.size() ||
       network.paths.size() != network.domain_edges.size())
     return "wrong number of paths";
 
@@ -84,17 +89,30 @@ std::optional<std::string> validate_network(const PathNetwork& network,
       owner[path[k]] = int(e);
     }
     auto left = left_face.find({a, b}), right = left_face.find({b, a});
-    if (left == left_face.end() || right == left_face.end()) return name + " is not a domain edge";
+    if (left == left_face.end() && right == left_face.end()) return name + " is not a domain edge";
     for (std::size_t k = 1; k < path.size(); ++k) {
       auto l = faces.find(directed_key(path[k - 1], path[k]));
       auto r = faces.find(directed_key(path[k], path[k - 1]));
-      if (l == faces.end() || r == faces.end()) return name + " leaves the surface's edges";
-      if (network.face_patch[l->second] != left->second ||
-          network.face_patch[r->second] != right->second)
+      if (l == faces.end() && r == faces.end()) return name + " leaves the surface's edges";
+      // A boundary edge of the domain runs along the surface's boundary.
+      if ((l == faces.end()) != (left == left_face.end()) ||
+          (r == faces.end()) != (right == left_face.end()))
+        return name + (l == faces.end() || r == faces.end()
+                           ? " runs along the surface's boundary, its domain edge does not"
+                           : " is a boundary edge of the domain but not of the surface");
+      if ((l != faces.end() && network.face_patch[l->second] != left->second) ||
+          (r != faces.end() && network.face_patch[r->second] != right->second))
         return name + " separates the wrong patches (orientation or order differs from the domain)";
       if (!cuts.insert(undirected_key(path[k - 1], path[k])).second)
         return name + " reuses an edge";
     }
+  }
+
+  // The surface's boundary lies on paths: no patch reaches it elsewhere.
+  for (const auto& [key, f] : faces) {
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    if (!faces.count(directed_key(b, a)) && !cuts.count(undirected_key(a, b)))
+      return "boundary edge " + std::to_string(a) + "-" + std::to_string(b) + " is on no path";
   }
 
   int count = 0;

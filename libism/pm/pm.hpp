@@ -3,9 +3,13 @@
 // keeps its position, so every vertex of a coarse level is a vertex of the
 // input, and replaying the recorded vertex splits rebuilds the input exactly.
 #include "mesh/triangle_mesh.hpp"
+#include "partition/compatible_networks.hpp"
 #include "partition/partition.hpp"
 
+#include <array>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace ism {
@@ -13,6 +17,9 @@ namespace ism {
 /// Inverse of the half-edge collapse vs -> vt: vertex vs reappears at
 /// `position`, splitting vt; vl and vr are the third corners of the two faces
 /// that the split creates, (vs, vt, vl) and (vt, vs, vr), counter-clockwise.
+/// On the boundary of an open surface (simplify_compatible) one of vl, vr is
+/// -1 and only the other face appears: the fan that moves to vs runs from
+/// the existing wing to the boundary.
 struct VertexSplit {
   int vs, vt, vl, vr;
   Vec3 position;
@@ -77,6 +84,17 @@ ProgressiveMesh simplify_constrained(const PathNetwork& network, const TriangleM
 ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertices,
                             const SimplifyOptions& options = {});
 
+/// Progressive meshes of two surfaces to one base (paper §3 step 2): the
+/// constrained simplification of each network. Base vertex i of both is
+/// features[i] (base_vertices[i] = features[i].vertex[s]) and both bases
+/// have the faces of `networks.base`, in its order and orientation. Open
+/// surfaces are simplified with their loops capped (networks.capped); the
+/// caps are then dropped, so both progressive meshes rebuild the surfaces of
+/// networks.networks exactly, their boundary splits having one wing (-1).
+/// Throws std::runtime_error as simplify_constrained does.
+std::array<ProgressiveMesh, 2> simplify_compatible(const CompatibleNetworks& networks,
+                                                   const SimplifyOptions& options = {});
+
 /// The mesh after applying the first `count` splits (all by default), with
 /// unused vertices kept in place so that indices match the input. Throws
 /// std::runtime_error if a split does not fit the mesh it is applied to.
@@ -84,5 +102,13 @@ TriangleMesh replay(const ProgressiveMesh& pm, std::size_t count = SIZE_MAX);
 
 /// The base mesh alone, re-indexed so that vertex i is base_vertices[i].
 TriangleMesh base_mesh(const ProgressiveMesh& pm);
+
+}  // namespace ism
+
+namespace ism {
+
+/// Why replaying all of pm's splits does not give `surface` back (faces as
+/// sets up to rotation, positions bit for bit), or nothing when it does.
+std::optional<std::string> replay_mismatch(const ProgressiveMesh& pm, const TriangleMesh& surface);
 
 }  // namespace ism

@@ -18,6 +18,13 @@ Json to_json(const MeshCheck& check);
 Json partition_report(const PathNetwork& network, const TriangleMesh& domain,
                       const ProgressiveMesh& pm);
 
+/// The "partition" section of a two-surface partition: genus, loops,
+/// features given and added (each added one with its vertex on A and B and
+/// its origin), base V/E/F, and per surface its size, Steiner vertices, path
+/// length and progressive mesh.
+Json compatible_partition_report(const CompatibleNetworks& networks,
+                                 const std::array<ProgressiveMesh, 2>& pms);
+
 /// The "map" section: validity, size, symmetric and one-way efficiencies (m,
 /// from map.measures()), optimisations and the fast-path fraction. The map must have
 /// passed validate().

@@ -43,11 +43,13 @@ Failure reading_failure(const std::filesystem::path& path, const std::exception&
   return Failure(error.what(), readable ? Failure::Kind::input : Failure::Kind::file);
 }
 
-TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs) {
-  return load_surface(InputMesh{path.string(), std::nullopt}, needs);
+TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequirements& needs,
+                               MeshCheck* check) {
+  return load_surface(InputMesh{path.string(), std::nullopt}, needs, check);
 }
 
-TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& needs) {
+TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& needs,
+                               MeshCheck* check) {
   const std::filesystem::path path = given.path;
   PolygonSoup soup;
   if (given.soup) {
@@ -72,6 +74,7 @@ TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& n
   for (const auto& repair : prepared.check.repairs()) note(path.string() + ": " + repair);
   for (const auto& warning : prepared.check.warnings())
     note(path.string() + ": warning: " + warning);
+  if (check) *check = prepared.check;
   return std::move(prepared.mesh);
 }
 

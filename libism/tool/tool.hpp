@@ -50,10 +50,12 @@ class Run {
 
   /// Reads and checks a surface; throws Failure naming the file and the
   /// first unmet requirement. Repairs are announced on stderr and the check
-  /// goes into the report under "input".
-  TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs);
+  /// goes into the report under "input" (and into *check when given).
+  TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs,
+                            MeshCheck* check = nullptr);
   /// The same for a file or a soup given in memory (InputMesh).
-  TriangleMesh load_surface(const InputMesh& input, const MeshRequirements& needs);
+  TriangleMesh load_surface(const InputMesh& input, const MeshRequirements& needs,
+                            MeshCheck* check = nullptr);
   /// Files that outputs must never overwrite.
   void add_input(const std::filesystem::path& path);
   /// Throws Failure now if `path` could not be written later (an input, a
