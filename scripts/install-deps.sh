@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs the build and test dependencies from Debian 12's packages.
-# Does nothing when they are all present already.
+# Installs the build and test dependencies from Debian 12's packages, and the
+# extra packages named as arguments (scripts/fuzz.sh: clang-14
+# libclang-rt-14-dev). Does nothing when they are all present already.
 set -euo pipefail
 
 packages=(
@@ -8,6 +9,7 @@ packages=(
   libopenmesh-dev libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev
   libopenexr-dev libopenimageio-dev openimageio-tools libdraco-dev
   libtbb-dev libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev
+  "$@"
 )
 
 missing=()
