@@ -1,6 +1,7 @@
 #include "io/image_io.hpp"
 
 #include "io/io.hpp"
+#include "io/mesh_parse.hpp"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -118,16 +119,16 @@ ExrLayout check_exr_header(const std::filesystem::path& path) {
     const std::string attribute = text(bytes.size());
     if (attribute.empty()) break;
     const std::string type = text(bytes.size());
-    if (type.empty()) fail("attribute " + attribute + " has no type");
+    if (type.empty()) fail("attribute " + detail::quoted(attribute) + " has no type");
     const std::uint32_t value_size = u32();
     if (value_size > bytes.size() - at)
-      fail("attribute " + attribute + " declares " + std::to_string(value_size) +
+      fail("attribute " + detail::quoted(attribute) + " declares " + std::to_string(value_size) +
            " bytes, more than the file holds");
     const std::size_t value = at, end = at + value_size;
     const auto fixed = fixed_attribute_size(type);
     if (fixed && value_size != *fixed)
-      fail("attribute " + attribute + " of type " + type + " has " + std::to_string(value_size) +
-           " bytes, not " + std::to_string(*fixed));
+      fail("attribute " + detail::quoted(attribute) + " of type " + detail::quoted(type) + " has " +
+           std::to_string(value_size) + " bytes, not " + std::to_string(*fixed));
     if (type == "chlist") {
       // Channels: name, pixel type, pLinear and 3 reserved bytes, x and y
       // sampling; an empty name ends the list, which must end the value.

@@ -18,7 +18,8 @@ namespace ism::tool {
 /// Options every tool takes (see tool/cli.hpp for the command-line side).
 struct CommonOptions {
   bool quiet = false;
-  std::string report_path;  // empty: no report
+  std::string report_path;     // empty: no report
+  std::size_t max_memory = 0;  // bytes; 0: default_memory_limit() (tool/limits.hpp)
 };
 
 /// Peak resident memory of this process so far, in bytes.
@@ -31,10 +32,14 @@ class Run {
 
   const std::string& tool_name() const { return tool_; }
   bool quiet() const { return options_.quiet; }
+  /// Memory this run may take (--max-memory or the default); the process's
+  /// address space is capped a little above it (tool/limits.hpp).
+  std::size_t memory_limit() const { return memory_limit_; }
   Json& report() { return report_; }
 
   /// Reads and checks a surface; throws Failure naming the file and the
-  /// first unmet requirement. Repairs are announced on stderr and the check
+  /// first unmet requirement, or, before reading, the memory its declared
+  /// size would need beyond the limit. Repairs are announced on stderr and the check
   /// goes into the report under "input".
   TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs);
   /// Files that outputs must never overwrite.
@@ -57,6 +62,7 @@ class Run {
 
   std::string tool_;
   CommonOptions options_;
+  std::size_t memory_limit_ = 0;
   Json report_ = Json::object();
   std::vector<std::filesystem::path> inputs_;
   std::chrono::steady_clock::time_point start_;
@@ -73,7 +79,8 @@ void write_output(const Run& run, const std::string& path,
                   const std::function<void(const std::filesystem::path&)>& write);
 
 /// Runs a tool's body: a Failure prints its message as one line and exits 1,
-/// any other exception prints "tool: message" and exits 1 as well.
+/// running out of memory prints "tool: out of memory ..." with the peak and
+/// the limit, any other exception prints "tool: message"; all exit 1.
 int run_main(const std::string& tool_name, const std::function<int()>& body);
 
 }  // namespace ism::tool

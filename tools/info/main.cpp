@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
     run.stage("read");
     ism::PolygonSoup soup;
     try {
+      ism::tool::check_surface_file(run, input);
       soup = ism::io::read_polygon_soup(input);
     } catch (const ism::io::FileError& e) {
       throw ism::tool::Failure(e.what());

@@ -206,7 +206,16 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     throw tool::Failure(
         "semireg: give exactly one of --base BASE, --base-vertices FILE and --base-size N");
 
+  tool::require_mesh_extension(run, "-o", o.output);
+  tool::require_mesh_extension(run, "--write-base", o.write_base);
+  tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
+  if (o.base_size) {
+    tool::check_base_size(run, o.base_size, o.input);
+    tool::check_semiregular(run, 2 * o.base_size, o.levels,
+                            "--base-size " + std::to_string(o.base_size));
+  }
   const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
+  if (o.base_size) tool::check_base_size(run, o.base_size, surface.n_vertices(), o.input);
 
   // Candidate bases: the user's, or decimations with different priorities
   // (which one suits a surface best is not predictable: each is mapped to a
@@ -221,6 +230,7 @@ int run_semireg(const Options& o, const tool::CommonOptions& common) {
     bases = decimated_bases(run, o, surface);
   }
 
+  tool::check_semiregular(run, bases.front().mesh.n_faces(), o.levels, "the base");
   // Each base traced on its own core; progress follows the first.
   tool::Progress& partition_progress = run.stage("partition");
   std::vector<std::optional<PathNetwork>> networks(bases.size());
