@@ -26,25 +26,31 @@
 namespace ism::tool {
 namespace {
 
-// Costs measured with /usr/bin/time -v (peak resident memory) on this
-// project's tools; docs/results-limits.md has the runs. Each is rounded up.
+// Costs fitted to peak resident memory (/usr/bin/time) of the tools,
+// rounded up; the runs are in docs/results-hostile.md.
 constexpr double kMB = 1024.0 * 1024.0;
-// A process with the image libraries loaded, before any mesh.
+// A process with the image libraries loaded, before any mesh (gim-remesh
+// and torus-remesh start at 130-150 MB).
 constexpr double kBaseBytes = 200 * kMB;
-// Per input face: reading and checking (ism-info), and the map of a tool
-// (two map variants side by side, progressive meshes, overlay, measures).
+// Per input face: reading and checking (ism-info: 1M faces 465 MB), and the
+// map of a tool (gim-remesh, two map variants side by side: bunny's 69630
+// faces 301 MB, sphere's 5120 186 MB, i.e. about 1.8 KB per face).
 constexpr double kCheckBytesPerFace = 600;
 constexpr double kMapBytesPerFace = 4000;
 // Per pixel of a geometry image: the image and its normals (doubles), the
 // remesh (a vertex and two triangles), and the measures against the input
-// (surface samples and a search tree over the remesh's triangles).
+// (surface samples and a search tree over the remesh's triangles): 513^2
+// 357 MB, 1025^2 1.02 GB, 2049^2 3.67 GB, i.e. 860 bytes per pixel.
 constexpr double kImageBytesPerPixel = 900;
-// Per face of a semi-regular remesh, and per point of a torus grid (two
-// triangles), sampled, written and measured the same way.
+// Per face of a semi-regular remesh (level 6 over 96 base faces: 173 MB,
+// level 4: 26 MB, i.e. 407 bytes per face) and per point of a torus grid
+// (two triangles; 1024^2 1.09 GB, 256^2 206 MB, i.e. 920 bytes per point),
+// sampled, written and measured.
 constexpr double kRemeshBytesPerFace = 450;
-constexpr double kGridBytesPerPoint = 900;
-// Per face of a generated mesh: the mesh and OpenMesh's writer kernel.
-constexpr double kGeneratedBytesPerFace = 300;
+constexpr double kGridBytesPerPoint = 1000;
+// Per face of a generated mesh, the mesh and OpenMesh's writer kernel
+// (4M faces: 364 MB).
+constexpr double kGeneratedBytesPerFace = 120;
 
 // The largest geometry image size OpenEXR and the layout take: 2^15 + 1.
 constexpr int kLargestImage = (1 << 15) + 1;
