@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <vector>
 
 #if defined(__SANITIZE_ADDRESS__)
 #define ISM_ADDRESS_SANITIZER 1
@@ -61,16 +62,33 @@ std::string limit_text(const Run& run) {
          (limit == default_memory_limit() ? ", half the machine's memory" : "");
 }
 
-// The cgroup (v2, then v1) memory limit of this process, if any.
+// The memory limit of this process's control group, if any (a Slurm job or
+// a container): its own cgroup's file, named in /proc/self/cgroup (v2
+// "0::/path", v1 "N:memory:/path"), then the mount's root.
 std::optional<std::size_t> cgroup_memory_limit() {
-  for (const char* file :
-       {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+  std::vector<std::string> files;
+  std::ifstream self("/proc/self/cgroup");
+  for (std::string line; std::getline(self, line);) {
+    if (line.rfind("0::", 0) == 0)
+      files.push_back("/sys/fs/cgroup" + line.substr(3) + "/memory.max");
+    const std::size_t memory = line.find(":memory:");
+    if (memory != std::string::npos)
+      files.push_back("/sys/fs/cgroup/memory" + line.substr(memory + 8) + "/memory.limit_in_bytes");
+  }
+  files.push_back("/sys/fs/cgroup/memory.max");
+  files.push_back("/sys/fs/cgroup/memory/memory.limit_in_bytes");
+  std::optional<std::size_t> limit;
+  for (const std::string& file : files) {
     std::ifstream in(file);
     std::string word;
-    if (in >> word && !word.empty() && std::isdigit(static_cast<unsigned char>(word[0])))
-      return std::size_t(std::stoull(word));
+    // "max" (v2) or a huge number (v1) means none.
+    if (in >> word && !word.empty() && std::isdigit(static_cast<unsigned char>(word[0])) &&
+        word.size() < 20) {
+      const std::size_t bytes = std::size_t(std::stoull(word));
+      limit = limit ? std::min(*limit, bytes) : bytes;
+    }
   }
-  return std::nullopt;
+  return limit;
 }
 
 }  // namespace
