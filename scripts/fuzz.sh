@@ -7,7 +7,8 @@
 #                                              meta_mesh exr mesh_check (default all)
 #
 # Each target starts from its committed seed corpus (fuzz/corpus/TARGET) and the
-# regression files of tests/data/hostile, and grows a working corpus in
+# regression files of tests/data/hostile, mutates with its format's keywords
+# (fuzz/dict/TARGET.dict), and grows a working corpus in
 # $FUZZ_BUILD_DIR/corpus/TARGET (kept between runs). A crash, a sanitizer
 # report, an input that takes more than 10 s (a hang) or more than 1 GB (a
 # memory bomb) is a finding: its input is saved under
@@ -50,12 +51,14 @@ for target in "${targets[@]}"; do
   while IFS= read -r seed; do
     [ -n "$seed" ] && cp -n "$seed" "$corpus/regression-$(basename "$seed")"
   done < <(seeds_of "$target")
+  dict=()
+  if [ -f "$root/fuzz/dict/$target.dict" ]; then dict=(-dict="$root/fuzz/dict/$target.dict"); fi
   log="$build/$target.log"
   before=$(find "$findings" -type f | wc -l)
   status=0
   nice "$build/fuzz_$target" "$corpus" -max_total_time="$seconds" -timeout=10 \
     -rss_limit_mb=1024 -malloc_limit_mb=1024 -max_len=65536 -print_final_stats=1 \
-    -artifact_prefix="$findings/" >"$log" 2>&1 || status=$?
+    -artifact_prefix="$findings/" "${dict[@]}" >"$log" 2>&1 || status=$?
   after=$(find "$findings" -type f | wc -l)
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
