@@ -25,6 +25,11 @@ awk 'BEGIN { n = 1000; k = 0; srand(7);
              for (i = 0; i < n; ++i) printf "%.3f %.3f %.3f\n", rand(), rand(), rand();
              for (i = 0; i < 600000; ++i) printf "3 %d %d %d\n", int(rand()*n), int(rand()*n), int(rand()*n) }' \
   >"$gen/off_600k_random_triangles.off"
+# 80,000 separate triangles in one plane: 240,000 boundary points with x = 0
+# (the boundary weld once compared them pairwise).
+awk 'BEGIN { srand(5); for (i = 0; i < 80000; ++i) {
+             for (k = 0; k < 3; ++k) printf "v 0 %.4f %.4f\n", rand(), rand();
+             printf "f %d %d %d\n", 3 * i + 1, 3 * i + 2, 3 * i + 3 } }' >"$gen/obj_80k_triangles_one_plane.obj"
 # Binary PLY, uchar counts and indices: 4 bytes a face over 256 vertices.
 {
   printf 'ply\nformat binary_little_endian 1.0\nelement vertex 256\nproperty uchar x\nproperty uchar y\nproperty uchar z\nelement face 1250000\nproperty list uchar uchar vertex_indices\nend_header\n'

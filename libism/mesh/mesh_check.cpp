@@ -81,18 +81,45 @@ std::vector<int> weld_targets(const PolygonSoup& soup, std::size_t& welded_count
       boundary.push_back(int(key >> 32));
       boundary.push_back(int(key & 0xffffffffu));
     }
-  std::sort(boundary.begin(), boundary.end(), [&](int a, int b) {
-    return soup.positions[a].x() < soup.positions[b].x() ||
-           (soup.positions[a].x() == soup.positions[b].x() && a < b);
-  });
+  std::sort(boundary.begin(), boundary.end());
   boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  // Pairs within the tolerance meet in a grid of cells of that size: each
+  // point is compared with the earlier points of its cell and the 26 around
+  // it, at most kMaxNearCandidates of them (a cluster of countless distinct
+  // points within the tolerance is joined through the first ones; without
+  // the cap a hostile file of 240,000 boundary points in one plane took
+  // minutes).
   const double tolerance = 1e-10 * (hi - lo).norm();
-  for (std::size_t k = 0; k < boundary.size(); ++k) {
-    const Vec3& p = soup.positions[boundary[k]];
-    for (std::size_t j = k + 1; j < boundary.size(); ++j) {
-      const Vec3& q = soup.positions[boundary[j]];
-      if (q.x() - p.x() > tolerance) break;
-      if ((q - p).norm() <= tolerance) sets.unite(boundary[k], boundary[j]);
+  if (tolerance > 0 && std::isfinite(tolerance)) {
+    constexpr int kMaxNearCandidates = 64;
+    using Cell = std::array<std::int64_t, 3>;
+    struct CellHash {
+      std::size_t operator()(const Cell& c) const {
+        std::uint64_t h = 0;
+        for (std::int64_t x : c) h = (h ^ std::uint64_t(x)) * 0x9E3779B97F4A7C15ull + (h >> 31);
+        return std::size_t(h);
+      }
+    };
+    std::unordered_map<Cell, std::vector<int>, CellHash> cells;
+    for (int v : boundary) {
+      const Vec3& p = soup.positions[v];
+      if (!p.allFinite()) continue;
+      // Within the bounding box, so at most 1e10 cells along an axis.
+      Cell cell;
+      for (int k = 0; k < 3; ++k) cell[k] = std::int64_t(std::floor((p[k] - lo[k]) / tolerance));
+      int compared = 0;
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy)
+          for (std::int64_t dz = -1; dz <= 1; ++dz) {
+            const auto it = cells.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+            if (it == cells.end()) continue;
+            for (int w : it->second) {
+              if (compared >= kMaxNearCandidates) break;
+              ++compared;
+              if ((soup.positions[w] - p).norm() <= tolerance) sets.unite(std::size_t(v), w);
+            }
+          }
+      cells[cell].push_back(v);
     }
   }
 

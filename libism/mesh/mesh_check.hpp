@@ -27,7 +27,9 @@ struct MeshCheck {
   double bounding_box_diagonal = 0.0;
   double area = 0.0;
 
-  // Defects (any of the first six makes the mesh unusable).
+  // Defects: non-finite coordinates, all faces of zero area, non-manifold
+  // edges or vertices make the mesh unusable (as do no faces, several
+  // components and a non-orientable surface); the rest is reported.
   std::size_t nonfinite_coordinates = 0;
   /// Every face has zero area (and `collinear`: all vertices lie on one line).
   bool zero_area = false;

@@ -198,5 +198,29 @@ TEST(MeshCheck, TooFewVerticesForTheDomainIsNamed) {
   EXPECT_FALSE(unmet_requirement(c, {.tool = "ism-info", .min_vertices = 4}));
 }
 
+TEST(MeshCheck, ManyBoundaryPointsInOnePlaneAreWeldedInLinearTime) {
+  // 80,000 separate triangles in the plane x = 0 (a 5 MB OBJ): the boundary
+  // weld compared every pair with equal x and ran for minutes; ctest's
+  // timeout catches a return of that. Two triangles 1e-13 apart still weld.
+  PolygonSoup s;
+  std::uint64_t state = 42;
+  auto random = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53);
+  };
+  for (int t = 0; t < 80000; ++t) {
+    for (int k = 0; k < 3; ++k) s.positions.push_back({0, random(), random()});
+    s.faces.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const int n = int(s.positions.size());
+  s.positions.push_back(s.positions[0] + Vec3(0, 1e-13, 0));
+  s.positions.push_back(s.positions[1]);
+  s.positions.push_back({0, 2, 2});
+  s.faces.push_back({n, n + 1, n + 2});
+  const MeshCheck c = prepare_mesh(s).check;
+  EXPECT_GE(c.welded_vertices, 2u);
+  EXPECT_EQ(c.faces, 80001u);
+}
+
 }  // namespace
 }  // namespace ism
