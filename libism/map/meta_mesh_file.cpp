@@ -64,9 +64,12 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
   };
   // Counts are checked against the file's size before anything is sized by
   // them: a face line takes at least 14 characters ("f 0 1 2 1 1 1" and a
-  // newline) and names three vertices, so a mesh has at most one vertex per
-  // 4 bytes of the file.
-  const std::uintmax_t max_vertices = file_bytes / 4, max_faces = file_bytes / 14;
+  // newline) and names three vertices, so the vertices faces use number at
+  // most one per 4 bytes of the file. A coarse map declares its surface's
+  // vertices not yet used without a line: up to 2^22 of them (200 MB of
+  // locations) need no bytes.
+  const std::uintmax_t max_vertices = std::max<std::uintmax_t>(file_bytes / 4, 1u << 22),
+                       max_faces = file_bytes / 14;
   // A record is only what it says: nothing may follow its numbers.
   auto complete = [](std::istringstream& words) {
     if (!words.eof()) words >> std::ws;

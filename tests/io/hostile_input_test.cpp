@@ -161,9 +161,9 @@ TEST(HostileInput, MetaMeshFilesFoundByFuzzingAreRefused) {
 TEST(HostileInput, MetaMeshCountsAreCheckedAgainstTheFileSize) {
   const fs::path path = test::binary_dir() / "test-scratch" / "meta_mesh_bomb.txt";
   fs::create_directories(path.parent_path());
-  std::ofstream(path) << "ism-meta-mesh 1\nmesh 0 1000000 8\n";
+  std::ofstream(path) << "ism-meta-mesh 1\nmesh 0 100000000 8\n";
   const std::string message = refusal([&] { read_meta_mesh(path); });
-  EXPECT_NE(message.find("declares 1000000 vertices and 8 faces, more than the file's"),
+  EXPECT_NE(message.find("declares 100000000 vertices and 8 faces, more than the file's"),
             std::string::npos)
       << message;
 }
