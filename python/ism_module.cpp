@@ -214,7 +214,7 @@ struct MapArguments {
 };
 
 tool::CommonOptions common_options(const py::object& report, bool quiet) {
-  return {.quiet = quiet, .report_path = optional_path(report)};
+  return {.quiet = quiet, .report_path = optional_path(report), .cap_address_space = false};
 }
 
 // Runs a pipeline without the GIL (its threads never touch Python) and

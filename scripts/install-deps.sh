@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the build and test dependencies from Debian 12's packages, then
 # the npm packages the tests use (scripts/install-node-tools.sh) and the
-# viewer's (scripts/viewer-deps.sh). Does nothing when all are present.
+# viewer's (scripts/viewer-deps.sh), and the extra packages named as
+# arguments (scripts/fuzz.sh: clang-14 libclang-rt-14-dev). Does nothing when
+# all are present.
 set -euo pipefail
 
 packages=(
@@ -14,6 +16,7 @@ packages=(
   # ism-batch's test runs shards through GNU parallel; the viewer's test
   # renders in headless Chromium (about 120 MB, 20 s to install).
   parallel chromium
+  "$@"
 )
 # The viewer's vendoring and test scripts run on Node.js (any Debian 12 one).
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then packages+=(nodejs npm); fi

@@ -20,6 +20,14 @@ inline bool have_shared_models() {
 inline std::filesystem::path binary_dir() {
   return std::filesystem::path(ISM_BINARY_DIR);
 }
+/// Regression files of hostile input (tests/data/hostile, README there).
+inline std::filesystem::path hostile_dir() {
+  return std::filesystem::path(ISM_SOURCE_DIR) / "tests" / "data" / "hostile";
+}
+/// The fuzzers' seed corpus of one target (fuzz/corpus/TARGET).
+inline std::filesystem::path fuzz_corpus_dir(const std::string& target) {
+  return std::filesystem::path(ISM_SOURCE_DIR) / "fuzz" / "corpus" / target;
+}
 
 }  // namespace ism::test
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -20,8 +21,12 @@ struct FeatureEntry {
   std::optional<std::pair<int, int>> grid;  // (row, col)
 };
 
-/// Parses a feature file; throws FileError naming the file and line.
+/// Parses a feature file; throws FileError naming the file and line (a word
+/// that is not a finite number, an index that is not a whole number an int
+/// holds, a line of another length).
 std::vector<FeatureEntry> read_feature_file(const std::filesystem::path& path);
+/// The same on text in memory; `name` prefixes the messages.
+std::vector<FeatureEntry> parse_feature_text(std::string_view text, const std::string& name);
 
 /// Features a pipeline takes: the feature file `path`, or, when `entries` is
 /// given, those entries (then `path` only names them in messages).
@@ -35,7 +40,8 @@ struct FeatureSource {
 
 /// Surface vertices of the entries, in grid order (row * columns + col) when
 /// every entry has a grid position, else in file order. Throws FileError for
-/// an index out of range or a grid position outside rows × columns.
+/// more entries than surface vertices, an index out of range or a grid
+/// position outside rows × columns (or given twice).
 std::vector<int> resolve_features(const std::vector<FeatureEntry>& entries,
                                   const TriangleMesh& surface, int columns,
                                   const std::string& file_name);

@@ -29,7 +29,12 @@ void write_exr_rgb(const std::filesystem::path& path, int width, int height,
 /// float; 32-bit float files read back bit-exact), row-major with row 0 at the
 /// top of the data window. When `attributes` is given it receives every string
 /// attribute of the header, sorted by name. Throws FileError for a missing or
-/// invalid file or a missing channel.
+/// invalid file or a missing channel. Hostile files are refused before
+/// OpenEXR opens them: the header is checked first (every attribute within
+/// the file and, for the types OpenEXR reads by their structure, exactly
+/// its declared size; no multi-part, deep or ID-manifest data), and a data
+/// window, tile or offset table larger than the file's size can hold (at
+/// most ~1100 decoded bytes per byte of file) is refused.
 std::vector<Eigen::Vector3f> read_exr_rgb(const std::filesystem::path& path, int& width,
                                           int& height, ExrAttributes* attributes = nullptr);
 

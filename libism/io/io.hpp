@@ -1,14 +1,21 @@
 #pragma once
-// Mesh files in and out. Reading goes through OpenMesh's readers (OBJ, PLY
-// ascii/binary, OFF, STL) into a raw polygon soup, so that broken files reach
-// the checks intact instead of being silently patched by a mesh kernel.
+// Mesh files in and out. Reading (OBJ, PLY ascii/binary, OFF and its
+// variants, STL ascii/binary) yields a raw polygon soup, so that broken files
+// reach the checks intact instead of being silently patched by a mesh kernel.
+// The readers are our own and take hostile files: they never hang (every loop
+// consumes input), never reserve what a header claims before checking it
+// against the bytes the file holds, and end every failure in a FileError.
+// Writing goes through OpenMesh.
 #include "mesh/polygon_soup.hpp"
 #include "mesh/quad_mesh.hpp"
 #include "mesh/triangle_mesh.hpp"
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
+#include <string_view>
 
 namespace ism::io {
 
@@ -18,11 +25,45 @@ class FileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Extensions read_polygon_soup() understands, lower case with the dot.
+/// The mesh formats read_polygon_soup() understands.
+enum class MeshFormat { obj, off, ply, stl };
+
+/// The format named by the extension (.obj, .off, .ply, .stl in any case).
+std::optional<MeshFormat> mesh_format_of(const std::filesystem::path& path);
+
+/// Extensions read_polygon_soup() understands, in any case.
 bool is_readable_mesh_extension(const std::filesystem::path& path);
 
-/// Reads positions and faces as the file stores them. Throws FileError.
+/// Reads positions and faces as the file stores them: OBJ (v and f lines,
+/// "i/t/n" corners, negative relative indices, '\' continuations), PLY
+/// (ascii, binary little and big endian; any numeric types; x y z of the
+/// vertex element, vertex_indices or vertex_index of the face element; other
+/// elements and properties skipped), OFF (ascii and "OFF BINARY", the ST, C
+/// and N prefixes; extra values on a line ignored), STL (ascii and binary,
+/// exactly equal corners joined, as STL has no other connectivity). A UTF-8
+/// byte-order mark is skipped. Throws FileError naming the file (and the line
+/// for text formats) for anything else: a count the file cannot hold, a
+/// truncated file, a face index that is not a vertex, no faces.
 PolygonSoup read_polygon_soup(const std::filesystem::path& path);
+
+/// read_polygon_soup() on the bytes of a file already in memory; `name`
+/// prefixes the messages.
+PolygonSoup parse_polygon_soup(std::string_view bytes, MeshFormat format, const std::string& name);
+
+/// Upper bounds on what a mesh file holds, known before reading it.
+struct MeshFileSize {
+  std::uint64_t bytes = 0;
+  std::uint64_t vertices = 0;  // positions in the file (before welding)
+  std::uint64_t faces = 0;     // polygons in the file (before triangulation)
+};
+
+/// The sizes a mesh file declares, without building the mesh: PLY and OFF
+/// from their headers, binary STL from its count, each capped by what the
+/// file's size can hold; OBJ by counting its v and f lines (a pass over the
+/// file in small chunks); ASCII STL from the file's size. Throws FileError
+/// for a missing file or an unknown extension, and for a header that cannot
+/// be read (the same message read_polygon_soup() would give).
+MeshFileSize peek_mesh_size(const std::filesystem::path& path);
 
 /// Writes a triangle mesh as OBJ, PLY (binary), OFF or STL, chosen by the
 /// extension. Throws FileError. Callers that must not leave partial files

@@ -3,6 +3,7 @@
 #include "map/meta_mesh.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -51,18 +52,37 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
 }
 
 MetaMesh read_meta_mesh(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::uintmax_t file_bytes =
+      std::filesystem::is_regular_file(path, ec) ? std::filesystem::file_size(path, ec) : 0;
   std::ifstream in(path);
-  if (!in) throw io::FileError(path.string() + ": cannot be read");
+  if (!in || ec || !std::filesystem::is_regular_file(path, ec))
+    throw io::FileError(path.string() + ": cannot be read");
   int line_number = 0;
   auto fail = [&](const std::string& why) {
     throw io::FileError(path.string() + ":" + std::to_string(line_number) + ": " + why);
   };
+  // Counts are checked against the file's size before anything is sized by
+  // them: a face line takes at least 14 characters ("f 0 1 2 1 1 1" and a
+  // newline) and names three vertices, so the vertices faces use number at
+  // most one per 4 bytes of the file. A coarse map declares its surface's
+  // vertices not yet used without a line: up to 2^22 of them (200 MB of
+  // locations) need no bytes.
+  const std::uintmax_t max_vertices = std::max<std::uintmax_t>(file_bytes / 4, 1u << 22),
+                       max_faces = file_bytes / 14;
+  // A record is only what it says: nothing may follow its numbers.
+  auto complete = [](std::istringstream& words) {
+    if (!words.eof()) words >> std::ws;
+    return words.eof();
+  };
+  auto fully = [&](std::istringstream& words) { return !words.fail() && complete(words); };
   std::string line;
   ++line_number;
   if (!std::getline(in, line) || line != "ism-meta-mesh 1") fail("not an ism meta-mesh file");
   MetaMesh meta;
   int current = -1;
   std::size_t faces_expected[2] = {0, 0};
+  bool mesh_seen[2] = {false, false};
   std::vector<std::array<int, 4>> crossing_edges;  // a0 b0 a1 b1 per x line
   std::vector<std::array<double, 2>> crossing_at;
   while (std::getline(in, line)) {
@@ -71,48 +91,66 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
     std::string kind;
     if (!(words >> kind)) continue;
     if (kind == "mesh") {
-      std::size_t vertices, faces;
-      if (!(words >> current >> vertices >> faces) || current != (current & 1) ||
-          !meta.side[current].faces.empty() || vertices > (1u << 30) || faces > (1u << 30))
+      long long side = -1, vertices = -1, faces = -1;
+      words >> side >> vertices >> faces;
+      if (!fully(words) || (side != 0 && side != 1) || mesh_seen[side] || vertices < 0 ||
+          faces <= 0)
         fail("bad mesh line");
-      meta.side[current].location.assign(vertices, {});
-      faces_expected[current] = faces;
+      if (std::uintmax_t(vertices) > max_vertices || std::uintmax_t(faces) > max_faces)
+        fail("mesh " + std::to_string(side) + " declares " + std::to_string(vertices) +
+             " vertices and " + std::to_string(faces) + " faces, more than the file's " +
+             std::to_string(file_bytes) + " bytes can hold");
+      current = int(side);
+      mesh_seen[current] = true;
+      meta.side[current].location.assign(std::size_t(vertices), {});
+      faces_expected[current] = std::size_t(faces);
     } else if (kind == "f") {
       Triangle t;
       FaceLengths l;
-      if (current < 0 || !(words >> t[0] >> t[1] >> t[2] >> l[0] >> l[1] >> l[2])) fail("bad face");
+      words >> t[0] >> t[1] >> t[2] >> l[0] >> l[1] >> l[2];
+      if (current < 0 || !fully(words)) fail("bad face");
       for (int v : t)
         if (v < 0 || std::size_t(v) >= meta.side[current].n_vertices()) fail("no such vertex");
+      for (double x : l)
+        if (!(x >= 0 && std::isfinite(x))) fail("face lengths must be finite and not negative");
+      if (meta.side[current].faces.size() == faces_expected[current])
+        fail("more faces than the mesh line declares");
       meta.side[current].faces.push_back(t);
       meta.side[current].lengths.push_back(l);
     } else if (kind == "on") {
-      int v0, v1;
-      if (!(words >> v0 >> v1) || v0 < 0 || v1 < 0 ||
-          std::size_t(v0) >= meta.side[0].n_vertices() ||
+      int v0 = -1, v1 = -1;
+      words >> v0 >> v1;
+      if (!fully(words) || v0 < 0 || v1 < 0 || std::size_t(v0) >= meta.side[0].n_vertices() ||
           std::size_t(v1) >= meta.side[1].n_vertices())
         fail("bad vertex pair");
       meta.side[0].location[v0].vertex = v1;
       meta.side[1].location[v1].vertex = v0;
     } else if (kind == "in") {
-      int m, v;
+      int m = -1, v = -1;
       MetaLocation loc;
-      if (!(words >> m >> v >> loc.face >> loc.bary[0] >> loc.bary[1] >> loc.bary[2]) ||
-          m != (m & 1) || v < 0 || std::size_t(v) >= meta.side[m].n_vertices())
+      words >> m >> v >> loc.face >> loc.bary[0] >> loc.bary[1] >> loc.bary[2];
+      if (!fully(words) || (m != 0 && m != 1) || v < 0 ||
+          std::size_t(v) >= meta.side[m].n_vertices() || loc.face < 0 ||
+          std::size_t(loc.face) >= faces_expected[1 - m] || !loc.bary.allFinite())
         fail("bad location");
       meta.side[m].location[v] = loc;
     } else if (kind == "x") {
       std::array<int, 4> e;
       std::array<double, 2> s;
-      if (!(words >> e[0] >> e[1] >> e[2] >> e[3] >> s[0] >> s[1])) fail("bad crossing");
+      words >> e[0] >> e[1] >> e[2] >> e[3] >> s[0] >> s[1];
+      if (!fully(words)) fail("bad crossing");
+      if (!(s[0] >= 0 && s[0] <= 1 && s[1] >= 0 && s[1] <= 1))
+        fail("crossing parameters must lie in [0, 1]");
       crossing_edges.push_back(e);
       crossing_at.push_back(s);
     } else {
-      fail("unknown record '" + kind + "'");
+      fail("unknown record '" + kind.substr(0, 40) + "'");
     }
   }
   line_number = 0;
   for (int m = 0; m < 2; ++m) {
     MetaSide& side = meta.side[m];
+    if (!mesh_seen[m]) fail("no mesh " + std::to_string(m));
     if (side.faces.size() != faces_expected[m]) fail("face count differs from its mesh line");
     if (!build_edges(side)) fail("mesh " + std::to_string(m) + " is not a closed manifold");
     side.crossings.assign(side.edges.size(), {});

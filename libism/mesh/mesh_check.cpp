@@ -81,18 +81,45 @@ std::vector<int> weld_targets(const PolygonSoup& soup, std::size_t& welded_count
       boundary.push_back(int(key >> 32));
       boundary.push_back(int(key & 0xffffffffu));
     }
-  std::sort(boundary.begin(), boundary.end(), [&](int a, int b) {
-    return soup.positions[a].x() < soup.positions[b].x() ||
-           (soup.positions[a].x() == soup.positions[b].x() && a < b);
-  });
+  std::sort(boundary.begin(), boundary.end());
   boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  // Pairs within the tolerance meet in a grid of cells of that size: each
+  // point is compared with the earlier points of its cell and the 26 around
+  // it, at most kMaxNearCandidates of them (a cluster of countless distinct
+  // points within the tolerance is joined through the first ones; without
+  // the cap a hostile file of 240,000 boundary points in one plane took
+  // minutes).
   const double tolerance = 1e-10 * (hi - lo).norm();
-  for (std::size_t k = 0; k < boundary.size(); ++k) {
-    const Vec3& p = soup.positions[boundary[k]];
-    for (std::size_t j = k + 1; j < boundary.size(); ++j) {
-      const Vec3& q = soup.positions[boundary[j]];
-      if (q.x() - p.x() > tolerance) break;
-      if ((q - p).norm() <= tolerance) sets.unite(boundary[k], boundary[j]);
+  if (tolerance > 0 && std::isfinite(tolerance)) {
+    constexpr int kMaxNearCandidates = 64;
+    using Cell = std::array<std::int64_t, 3>;
+    struct CellHash {
+      std::size_t operator()(const Cell& c) const {
+        std::uint64_t h = 0;
+        for (std::int64_t x : c) h = (h ^ std::uint64_t(x)) * 0x9E3779B97F4A7C15ull + (h >> 31);
+        return std::size_t(h);
+      }
+    };
+    std::unordered_map<Cell, std::vector<int>, CellHash> cells;
+    for (int v : boundary) {
+      const Vec3& p = soup.positions[v];
+      if (!p.allFinite()) continue;
+      // Within the bounding box, so at most 1e10 cells along an axis.
+      Cell cell;
+      for (int k = 0; k < 3; ++k) cell[k] = std::int64_t(std::floor((p[k] - lo[k]) / tolerance));
+      int compared = 0;
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy)
+          for (std::int64_t dz = -1; dz <= 1; ++dz) {
+            const auto it = cells.find({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+            if (it == cells.end()) continue;
+            for (int w : it->second) {
+              if (compared >= kMaxNearCandidates) break;
+              ++compared;
+              if ((soup.positions[w] - p).norm() <= tolerance) sets.unite(std::size_t(v), w);
+            }
+          }
+      cells[cell].push_back(v);
     }
   }
 
@@ -127,6 +154,13 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   // Weld; remember one input index per vertex so that messages name
   // vertices the user can find in the file.
   const std::vector<int> target = weld_targets(soup, c.welded_vertices);
+  c.input_faces = soup.faces.size();
+  {
+    std::vector<char> used(soup.positions.size(), 0);
+    for (const auto& face : soup.faces)
+      for (int v : face)
+        if (!used[target[v]]) used[target[v]] = 1, ++c.distinct_positions;
+  }
   std::vector<int> welded(soup.positions.size(), -1);
   std::vector<Vec3> positions;
   std::vector<int> input_index;
@@ -311,6 +345,20 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   const double tiny_area = 1e-14 * c.bounding_box_diagonal * c.bounding_box_diagonal;
   for (std::size_t f = 0; f < nf; ++f)
     if (!(face_area(mesh, f) > tiny_area)) ++c.degenerate_faces;
+  if (c.degenerate_faces == nf && c.nonfinite_coordinates == 0) {
+    c.zero_area = true;
+    // Collinear: every vertex on the line from vertex 0 to the vertex
+    // farthest from it (to rounding, 1e-12 of the diagonal).
+    const Vec3& a = mesh.positions[0];
+    Vec3 b = a;
+    for (const Vec3& p : mesh.positions)
+      if ((p - a).squaredNorm() > (b - a).squaredNorm()) b = p;
+    const Vec3 axis = (b - a).normalized();
+    const double tolerance = 1e-12 * c.bounding_box_diagonal;
+    c.collinear = std::all_of(mesh.positions.begin(), mesh.positions.end(), [&](const Vec3& p) {
+      return ((p - a) - (p - a).dot(axis) * axis).norm() <= tolerance;
+    });
+  }
 
   if (c.manifold() && c.orientable && c.nonfinite_coordinates == 0) {
     for (std::size_t f = 0; f < nf; ++f)
@@ -348,10 +396,23 @@ std::vector<std::string> MeshCheck::repairs() const {
 
 std::vector<std::string> MeshCheck::defects() const {
   std::vector<std::string> d;
-  if (faces == 0) d.push_back("no faces");
+  if (faces == 0 && input_faces > 0 && distinct_positions <= 1)
+    d.push_back("no faces: all " + plural(input_faces, "face", "faces") +
+                " collapse, every vertex is at one point");
+  else if (faces == 0 && input_faces > 0)
+    d.push_back("no faces: all " + plural(input_faces, "face", "faces") +
+                " collapse, their corners take only " + std::to_string(distinct_positions) +
+                " distinct positions");
+  else if (faces == 0)
+    d.push_back("no faces");
   if (nonfinite_coordinates)
     d.push_back(plural(nonfinite_coordinates, "vertex", "vertices") +
                 " with non-finite coordinates");
+  if (collinear)
+    d.push_back("all " + plural(vertices, "vertex", "vertices") +
+                " lie on one line: every face has zero area");
+  else if (zero_area)
+    d.push_back("every face has zero area (" + plural(faces, "face", "faces") + ")");
   if (nonmanifold_edges) {
     std::string s = plural(nonmanifold_edges, "non-manifold edge", "non-manifold edges");
     if (example_nonmanifold_edge)
@@ -381,14 +442,22 @@ std::vector<std::string> MeshCheck::warnings() const {
 std::optional<std::string> unmet_requirement(const MeshCheck& check,
                                              const MeshRequirements& needs) {
   auto defects = check.defects();
+  // Geometry comes first among the defects only when it is the whole story.
+  const bool geometry = check.faces > 0 && check.nonfinite_coordinates == 0 && check.zero_area;
   if (!defects.empty())
-    return defects.front() + ", " + needs.tool + " needs one connected, orientable 2-manifold";
+    return defects.front() + ", " + needs.tool +
+           (geometry ? " needs a surface of positive area"
+                     : " needs one connected, orientable 2-manifold");
   if (needs.closed && !check.closed())
     return plural(check.boundary_loops, "boundary loop", "boundary loops") + ", " + needs.tool +
            " needs a closed surface";
   if (needs.genus && check.genus != needs.genus)
     return "genus " + std::to_string(check.genus.value_or(-1)) + ", " + needs.tool +
            " needs genus " + std::to_string(*needs.genus);
+  if (check.vertices < needs.min_vertices)
+    return plural(check.vertices, "vertex", "vertices") + ", " + needs.tool + " needs at least " +
+           std::to_string(needs.min_vertices) +
+           (needs.min_vertices_reason.empty() ? "" : " (" + needs.min_vertices_reason + ")");
   return std::nullopt;
 }
 

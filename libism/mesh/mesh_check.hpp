@@ -27,8 +27,17 @@ struct MeshCheck {
   double bounding_box_diagonal = 0.0;
   double area = 0.0;
 
-  // Defects (any of the first four makes the mesh unusable).
+  // Defects: non-finite coordinates, all faces of zero area, non-manifold
+  // edges or vertices make the mesh unusable (as do no faces, several
+  // components and a non-orientable surface); the rest is reported.
   std::size_t nonfinite_coordinates = 0;
+  /// Every face has zero area (and `collinear`: all vertices lie on one line).
+  bool zero_area = false;
+  bool collinear = false;
+  /// The file's faces, and the distinct positions their corners take: when
+  /// welding left no face, these say why (all corners at one point, ...).
+  std::size_t input_faces = 0;
+  std::size_t distinct_positions = 0;
   std::size_t nonmanifold_edges = 0;
   std::size_t nonmanifold_vertices = 0;
   std::optional<int> example_nonmanifold_vertex;                // input vertex index, 0-based
@@ -46,9 +55,11 @@ struct MeshCheck {
 
   bool manifold() const { return nonmanifold_edges == 0 && nonmanifold_vertices == 0; }
   bool closed() const { return boundary_loops == 0; }
-  /// One orientable, connected 2-manifold with finite coordinates and faces.
+  /// One orientable, connected 2-manifold with finite coordinates and faces,
+  /// not all of zero area.
   bool valid_surface() const {
-    return faces > 0 && nonfinite_coordinates == 0 && manifold() && orientable && components == 1;
+    return faces > 0 && nonfinite_coordinates == 0 && !zero_area && manifold() && orientable &&
+           components == 1;
   }
   /// Repairs in words, e.g. "welded 79 coincident vertices".
   std::vector<std::string> repairs() const;
@@ -70,10 +81,15 @@ struct MeshRequirements {
   std::string tool;          // named in the message, e.g. "gim-remesh"
   bool closed = false;       // no boundary
   std::optional<int> genus;  // exact genus wanted
+  /// Fewest vertices the tool's domain needs, and why, e.g. 6 and "one per
+  /// octahedron vertex".
+  std::size_t min_vertices = 0;
+  std::string min_vertices_reason;
 };
 
 /// The first unmet requirement as "5 boundary loops, gim-remesh needs a closed
-/// surface", or nothing when the mesh is acceptable. A mesh that is not a
+/// surface" or "4 vertices, gim-remesh needs at least 6 (one per octahedron
+/// vertex)", or nothing when the mesh is acceptable. A mesh that is not a
 /// valid surface always fails, with its most serious defect.
 std::optional<std::string> unmet_requirement(const MeshCheck& check, const MeshRequirements& needs);
 

@@ -8,6 +8,7 @@
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
 #include "report/report.hpp"
+#include "tool/limits.hpp"
 #include "sample/geometry_image_file.hpp"
 
 #include <cmath>
@@ -59,16 +60,23 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   if (!o.features.entries && !o.features.path.empty()) run.add_input(o.features.path);
   for (const std::string& out : {o.output, o.normals, o.mesh, o.preview, o.dump_patches})
     if (!out.empty()) run.check_output(out);
-  if (o.size < 3 || ((o.size - 1) & (o.size - 2)) != 0)
-    throw tool::Failure("gim-remesh: --size must be 2^k+1 (e.g. 65, 129, 257, 513), got " +
-                        std::to_string(o.size));
+  tool::check_geometry_image(run, o.size);
+  for (const std::string& exr : {o.output, o.normals})
+    tool::require_extension(run, exr == o.output ? "-o" : "--normals", exr, {".exr"}, "OpenEXR");
+  tool::require_mesh_extension(run, "--mesh", o.mesh);
+  tool::require_extension(run, "--preview", o.preview, {".png"}, "PNG");
+  tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
   if (o.metric != "right-isosceles" && o.metric != "equilateral")
     throw tool::Failure("gim-remesh: --metric must be right-isosceles or equilateral, got '" +
                         o.metric + "'");
   tool::check_settings("gim-remesh", o.map, o.mesh_file);
 
   const TriangleMesh surface =
-      run.load_surface(o.input, {.tool = "gim-remesh", .closed = true, .genus = 0});
+      run.load_surface(o.input, {.tool = "gim-remesh",
+                                 .closed = true,
+                                 .genus = 0,
+                                 .min_vertices = 6,
+                                 .min_vertices_reason = "one per octahedron vertex"});
 
   run.stage("partition");
   std::vector<PathNetwork> networks;

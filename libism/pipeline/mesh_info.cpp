@@ -2,6 +2,7 @@
 
 #include "io/io.hpp"
 #include "report/report.hpp"
+#include "tool/limits.hpp"
 
 namespace ism::pipeline {
 
@@ -13,6 +14,7 @@ MeshInfo mesh_info(tool::Run& run, const tool::InputMesh& input) {
     run.add_input(input.path);
     run.stage("read");
     try {
+      tool::check_surface_file(run, input.path);
       soup = io::read_polygon_soup(input.path);
     } catch (const io::FileError& e) {
       throw tool::reading_failure(input.path, e);

@@ -8,6 +8,7 @@
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
+#include "tool/limits.hpp"
 #include "sample/semiregular.hpp"
 
 #include <tbb/parallel_for.h>
@@ -201,8 +202,17 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     throw tool::Failure("semireg: --base-size must be 4.." + std::to_string(1 << 24) + ", got " +
                         std::to_string(o.base_size));
   tool::check_settings("semireg", o.map, o.mesh_file);
+  tool::require_mesh_extension(run, "-o", o.output);
+  tool::require_mesh_extension(run, "--write-base", o.write_base);
+  tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
+  if (o.base_size) {
+    if (!o.input.soup) tool::check_base_size(run, o.base_size, input);
+    tool::check_semiregular(run, 2 * o.base_size, o.levels,
+                            "--base-size " + std::to_string(o.base_size));
+  }
 
   const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
+  if (o.base_size) tool::check_base_size(run, o.base_size, surface.n_vertices(), input);
 
   // Candidate bases: the user's, or decimations with different priorities
   // (which one suits a surface best is not predictable: each is mapped to a
@@ -217,6 +227,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     bases = decimated_bases(run, o, surface);
   }
 
+  tool::check_semiregular(run, bases.front().mesh.n_faces(), o.levels, "the base");
   // Each base traced on its own core; progress follows the first.
   tool::Progress& partition_progress = run.stage("partition");
   std::vector<std::optional<PathNetwork>> networks(bases.size());

@@ -9,6 +9,7 @@
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
+#include "tool/limits.hpp"
 #include "sample/geometry_image_file.hpp"
 
 #include <cstdio>
@@ -130,11 +131,17 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const GridSize size = parse_size(o.size);
   check_formats(o);
   tool::check_settings("torus-remesh", o.map, o.mesh_file);
+  tool::check_torus_grid(run, size.columns, size.rows);
+  tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
   for (const std::string& out : {o.output, o.image, o.dump_patches})
     if (!out.empty()) run.check_output(out);
 
   const TriangleMesh surface =
-      run.load_surface(o.input, {.tool = "torus-remesh", .closed = true, .genus = 1});
+      run.load_surface(o.input, {.tool = "torus-remesh",
+                                 .closed = true,
+                                 .genus = 1,
+                                 .min_vertices = 9,
+                                 .min_vertices_reason = "one per vertex of the 3x3 torus grid"});
 
   const TriangleMesh torus = domain::torus_3x3();
   Candidates candidates = torus_networks(run, o, surface, torus);

@@ -2,6 +2,7 @@
 // The command-line side of the tool conventions. CLI11 is costly to compile:
 // include this header only in a tool's main.cpp.
 #include "io/draco_io.hpp"
+#include "tool/limits.hpp"
 #include "tool/map_stage.hpp"
 #include "tool/tool.hpp"
 
@@ -9,11 +10,24 @@
 
 namespace ism::tool {
 
-/// --version, -q/--quiet and --report FILE, the same in every tool.
+/// --version, -q/--quiet, --report FILE and --max-memory SIZE, the same in
+/// every tool.
 inline void add_common_options(CLI::App& app, CommonOptions& options) {
   app.set_version_flag("--version", std::string(ISM_VERSION));
   app.add_flag("-q,--quiet", options.quiet, "No progress or notes on stderr");
   app.add_option("--report", options.report_path, "Write a JSON report (sizes, timings, measures)");
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [&options](const std::string& text) {
+           const auto bytes = parse_memory_size(text);
+           if (!bytes)
+             throw CLI::ValidationError("--max-memory", "expected a size like 8G or 512M");
+           options.max_memory = *bytes;
+         },
+         "Memory the run may take, e.g. 8G or 512M: outputs or inputs estimated to need more are "
+         "refused before any work (default: half the machine's memory, " +
+             format_bytes(double(default_memory_limit())) + ")")
+      ->type_name("SIZE");
 }
 
 /// --draco-bits and --glb-draco, the same in every tool that writes meshes.

@@ -3,6 +3,7 @@
 #include "io/io.hpp"
 #include "report/report.hpp"
 #include "tool/failure.hpp"
+#include "tool/limits.hpp"
 
 #include <sys/resource.h>
 
@@ -10,6 +11,12 @@
 #include <fstream>
 
 namespace ism::tool {
+namespace {
+
+// The limit of the last Run, for the out-of-memory line of run_main.
+std::size_t last_memory_limit = 0;
+
+}  // namespace
 
 std::size_t peak_memory_bytes() {
   rusage usage{};
@@ -22,9 +29,13 @@ Run::Run(std::string tool_name, CommonOptions options)
       options_(std::move(options)),
       start_(std::chrono::steady_clock::now()),
       progress_(tool_, options_.quiet) {
+  memory_limit_ = options_.max_memory ? options_.max_memory : default_memory_limit();
+  last_memory_limit = memory_limit_;
+  if (options_.cap_address_space) cap_address_space(memory_limit_);
   report_["tool"] = tool_;
   report_["version"] = ISM_VERSION;
   // Fail before the work, not after it, when the report cannot be written.
+  require_extension(*this, "--report", options_.report_path, {".json"}, "JSON");
   if (!options_.report_path.empty()) check_output(options_.report_path);
 }
 
@@ -58,6 +69,7 @@ TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& n
     add_input(path);
     stage("read");
     try {
+      check_surface_file(*this, path);
       soup = io::read_polygon_soup(path);
     } catch (const io::FileError& e) {
       throw reading_failure(path, e);
@@ -129,11 +141,30 @@ void write_output(const Run& run, const std::string& path,
   out.commit();
 }
 
+namespace {
+
+// No allocation here: the message is built in a fixed buffer.
+void out_of_memory(const std::string& tool_name) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%s: out of memory (peak %.0f MB so far, limit %.0f MB); ask for smaller outputs "
+                "or raise --max-memory\n",
+                tool_name.c_str(), double(peak_memory_bytes()) / (1024.0 * 1024.0),
+                double(last_memory_limit) / (1024.0 * 1024.0));
+  std::fputs(line, stderr);
+}
+
+}  // namespace
+
 int run_main(const std::string& tool_name, const std::function<int()>& body) {
   try {
     return body();
   } catch (const Failure& e) {
     std::fprintf(stderr, "%s\n", e.what());
+  } catch (const std::bad_alloc&) {
+    out_of_memory(tool_name);
+  } catch (const std::length_error&) {
+    out_of_memory(tool_name);  // a size computed beyond what can be allocated
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", tool_name.c_str(), e.what());
   }

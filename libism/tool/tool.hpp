@@ -33,7 +33,12 @@ Failure reading_failure(const std::filesystem::path& path, const std::exception&
 /// Options every tool takes (see tool/cli.hpp for the command-line side).
 struct CommonOptions {
   bool quiet = false;
-  std::string report_path;  // empty: no report
+  std::string report_path;     // empty: no report
+  std::size_t max_memory = 0;  // bytes; 0: default_memory_limit() (tool/limits.hpp)
+  /// The command-line tools also cap the process's address space at the
+  /// limit (plus slack), so that an allocation beyond it fails cleanly; a
+  /// process that embeds the library (the Python module) is left alone.
+  bool cap_address_space = true;
 };
 
 /// Peak resident memory of this process so far, in bytes.
@@ -46,11 +51,15 @@ class Run {
 
   const std::string& tool_name() const { return tool_; }
   bool quiet() const { return options_.quiet; }
+  /// Memory this run may take (--max-memory or the default); the process's
+  /// address space is capped a little above it (tool/limits.hpp).
+  std::size_t memory_limit() const { return memory_limit_; }
   Json& report() { return report_; }
 
   /// Reads and checks a surface; throws Failure naming the file and the
-  /// first unmet requirement. Repairs are announced on stderr and the check
-  /// goes into the report under "input" (and into *check when given).
+  /// first unmet requirement, or, before reading, the memory its declared
+  /// size would need beyond the limit. Repairs are announced on stderr and the
+  /// check goes into the report under "input" (and into *check when given).
   TriangleMesh load_surface(const std::filesystem::path& path, const MeshRequirements& needs,
                             MeshCheck* check = nullptr);
   /// The same for a file or a soup given in memory (InputMesh).
@@ -76,6 +85,7 @@ class Run {
 
   std::string tool_;
   CommonOptions options_;
+  std::size_t memory_limit_ = 0;
   Json report_ = Json::object();
   std::vector<std::filesystem::path> inputs_;
   std::chrono::steady_clock::time_point start_;
@@ -92,7 +102,8 @@ void write_output(const Run& run, const std::string& path,
                   const std::function<void(const std::filesystem::path&)>& write);
 
 /// Runs a tool's body: a Failure prints its message as one line and exits 1,
-/// any other exception prints "tool: message" and exits 1 as well.
+/// running out of memory prints "tool: out of memory ..." with the peak and
+/// the limit, any other exception prints "tool: message"; all exit 1.
 int run_main(const std::string& tool_name, const std::function<int()>& body);
 
 }  // namespace ism::tool

@@ -141,6 +141,69 @@ TEST(ExrIo, MissingChannelThrows) {
   EXPECT_NE(message.find("channel R"), std::string::npos) << message;
 }
 
+TEST(ExrIo, HostileFilesFoundByFuzzingAreRefusedBeforeOpenExrAllocates) {
+  // exr_oom_attribute: OpenEXR allocated 1.7 GB for an attribute whose type
+  // name runs into the next attribute; exr_chlist_overrun: a channel list
+  // running past its declared size, after which OpenEXR parsed a 1.9 GB
+  // opaque attribute that a size-based reading never sees.
+  const std::pair<const char*, const char*> cases[] = {
+      {"exr_oom_attribute.exr", "has no type"},
+      {"exr_chlist_overrun.exr", "not terminated or too long"},
+  };
+  for (const auto& [file, expected] : cases) {
+    SCOPED_TRACE(file);
+    const fs::path path = test::hostile_dir() / file;
+    int w = 0, h = 0;
+    const std::string message = file_error_message([&] { io::read_exr_rgb(path, w, h); });
+    EXPECT_EQ(message.rfind(path.string() + ": cannot read OpenEXR: ", 0), 0u) << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  }
+}
+
+TEST(ExrIo, DataWindowBeyondTheFileIsRefused) {
+  // A valid 2x2 image whose data window is widened to 65536 x 65536 pixels.
+  const fs::path path = scratch("window_bomb.exr");
+  io::write_exr_rgb(path, 2, 2, std::vector<Eigen::Vector3f>(4, Eigen::Vector3f(1, 2, 3)));
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::size_t at = bytes.find("dataWindow");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t box = at + std::strlen("dataWindow") + 1 + std::strlen("box2i") + 1 + 4;
+  const std::int32_t max = 65535;
+  std::memcpy(&bytes[box + 8], &max, 4);
+  std::memcpy(&bytes[box + 12], &max, 4);
+  std::ofstream(path, std::ios::binary) << bytes;
+  int w = 0, h = 0;
+  const std::string message = file_error_message([&] { io::read_exr_rgb(path, w, h); });
+  EXPECT_NE(message.find("65536x65536 pixels"), std::string::npos) << message;
+}
+
+TEST(ExrIo, FuzzSeedsInEveryCompressionReadBack) {
+  // One 5x5 geometry image saved with each of OpenEXR's compressions (and
+  // tiled): the lossless ones read back bit for bit, the lossy ones close.
+  int w = 0, h = 0;
+  const auto reference = io::read_exr_rgb(test::fuzz_corpus_dir("exr") / "zip.exr", w, h);
+  ASSERT_EQ(w, 5);
+  ASSERT_EQ(h, 5);
+  for (const auto& entry : fs::directory_iterator(test::fuzz_corpus_dir("exr"))) {
+    SCOPED_TRACE(entry.path().string());
+    const std::string stem = entry.path().stem().string();
+    const auto pixels = io::read_exr_rgb(entry.path(), w, h);
+    ASSERT_EQ(w, 5);
+    ASSERT_EQ(h, 5);
+    const bool lossy = stem == "b44" || stem == "dwaa" || stem == "pxr24";
+    for (std::size_t i = 0; i < pixels.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        if (lossy)
+          EXPECT_NEAR(pixels[i][k], reference[i][k], 1e-2);
+        else
+          EXPECT_TRUE(same_bits(pixels[i][k], reference[i][k]));
+  }
+}
+
 TEST(ExrIo, UnwritablePathThrows) {
   const fs::path path = scratch("no_such_dir") / "sub" / "x.exr";
   const std::vector<Eigen::Vector3f> pixels(1);

@@ -133,6 +133,20 @@ TEST(MetaMesh, ValidateFindsCorruptionOfEitherSide) {
   EXPECT_TRUE(validate(bad).has_value());
 }
 
+TEST(MetaMesh, CoarseMapFileReadsBack) {
+  // At the base level M² uses 6 of the surface's vertices: the others are
+  // declared without a line of their own, so the vertex count may far
+  // exceed what the file's bytes describe (the reader's bound allows it).
+  OctahedralMap s(shapes::sphere(40000));
+  const MetaMesh meta = *meta_mesh(s.map);
+  const auto path = std::filesystem::temp_directory_path() / "ism_meta_mesh_coarse.meta";
+  ASSERT_TRUE(write_meta_mesh(meta, path));
+  EXPECT_GT(meta.side[1].n_vertices(), std::filesystem::file_size(path) / 4);
+  const MetaMesh back = read_meta_mesh(path);
+  EXPECT_EQ(back.side[1].n_vertices(), meta.side[1].n_vertices());
+  EXPECT_EQ(validate(back), std::nullopt);
+}
+
 TEST(MetaMesh, FileRoundTripIsExact) {
   OctahedralMap s(shapes::sphere(400));
   refine(s.map, {.max_final_sweeps = 1});

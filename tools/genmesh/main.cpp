@@ -5,6 +5,7 @@
 #include "shapes/shapes.hpp"
 #include "tool/cli.hpp"
 #include "tool/failure.hpp"
+#include "tool/limits.hpp"
 
 #include <map>
 
@@ -35,6 +36,8 @@ int main(int argc, char** argv) {
 
   return ism::tool::run_main("ism-genmesh", [&] {
     ism::tool::Run run("ism-genmesh", common);
+    ism::tool::require_extension(run, "-o", output, {".obj", ".ply", ".off", ".stl"}, "a mesh");
+    ism::tool::check_generated_mesh(run, std::size_t(faces));
     ism::tool::OutputFile out(output, run.inputs());
     if (shape == "torus" && minor >= major)
       throw ism::tool::Failure("ism-genmesh: --r must be smaller than --R");
