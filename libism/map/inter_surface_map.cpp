@@ -6,7 +6,6 @@
 #include "metrics/metrics.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <stdexcept>
@@ -79,7 +78,15 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
 
 FaceLengths InterSurfaceMap::face_lengths(int s, const Triangle& t) const {
   const auto& x = meta_.side[s].positions;
-  return {(x[t[1]] - x[t[0]]).norm(), (x[t[2]] - x[t[1]]).norm(), (x[t[0]] - x[t[2]]).norm()};
+  FaceLengths l{(x[t[1]] - x[t[0]]).norm(), (x[t[2]] - x[t[1]]).norm(), (x[t[0]] - x[t[2]]).norm()};
+  // A face of an intermediate level can be flat (a path's Steiner vertex
+  // split off along the edge it lies on): its metric is made a thin
+  // triangle (the longest edge 1e-4 shorter than the other two together),
+  // so that it can be cut into pieces of positive area.
+  const int k = int(std::max_element(l.begin(), l.end()) - l.begin());
+  const double others = l[(k + 1) % 3] + l[(k + 2) % 3];
+  l[k] = std::min(l[k], others * (1 - 1e-4));
+  return l;
 }
 
 double InterSurfaceMap::face_area(int s, int f) const {
@@ -221,7 +228,6 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   for (const auto& [g, list] : proposal.other_lists) set_breaks(1 - s, g, list, &edit);
   double after = 0;
   const auto problem = check_faces(s, faces, &after);
-  if (problem && std::getenv("ISM_DEBUG")) std::fprintf(stderr, "check: %s\n", problem->c_str());
   if (problem || !(after < HUGE_VAL) || (need_gain && !(after < energy_before * (1 - 1e-12)))) {
     rollback(edit);
     return std::nullopt;

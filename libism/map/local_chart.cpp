@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -498,12 +497,6 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
         fragment.triangles = triangulate_piece(both);
         if (fragment.triangles.empty()) {
-          if (std::getenv("ISM_DEBUG")) {
-            std::fprintf(stderr, "fragment with no triangulation (%zu corners):\n", n);
-            for (std::size_t i = 0; i < n; ++i)
-              std::fprintf(stderr, "  %.9g %.9g | %.9g %.9g\n", fragment.chart[i].x(),
-                           fragment.chart[i].y(), fragment.other[i].x(), fragment.other[i].y());
-          }
           return chart_fail(403);
         }
         const auto points = piece_points(both, fragment.triangles);
@@ -522,7 +515,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       return chart_fail(410);
     return true;
   };
-  auto relax = [&]() {
+  auto relax = [&](bool fix_centre) {
     if (chart.interior.empty()) return;
     // Mean-value weights of each inner vertex x of t over the anchors its
     // chords reach, from t's metric: angles at x (scaled to 2π) and lengths.
@@ -530,7 +523,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     // around that point).
     std::vector<int> slot(chart.anchors.size(), -1);
     for (std::size_t k = 0; k < chart.interior.size(); ++k)
-      if (chart.interior[k] != chart.centre_anchor) slot[chart.interior[k]] = int(k);
+      if (!fix_centre || chart.interior[k] != chart.centre_anchor) slot[chart.interior[k]] = int(k);
     std::vector<std::vector<std::pair<int, double>>> weights(chart.interior.size());
     for (std::size_t k = 0; k < chart.interior.size(); ++k) {
       const int xa = chart.interior[k];
@@ -567,7 +560,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(ni, ni);
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ni, 2);
     for (int k = 0; k < ni; ++k) {
-      if (weights[k].empty() || chart.interior[k] == chart.centre_anchor) {
+      if (weights[k].empty() || (fix_centre && chart.interior[k] == chart.centre_anchor)) {
         M(k, k) = 1;
         rhs.row(k) = chart.anchors[chart.interior[k]].pos.transpose();
         continue;
@@ -586,7 +579,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   };
   bool laid_out = make_fragments();
   if (!laid_out && !chart.interior.empty()) {
-    relax();
+    relax(true);
     laid_out = make_fragments();
   }
   if (!laid_out) {
@@ -617,7 +610,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       }
     }
     rescale = true;
-    relax();
+    relax(false);
     laid_out = make_fragments();
   }
   if (!laid_out) return false;
@@ -740,31 +733,6 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       const double o3 = orient(C, D, P), o4 = orient(C, D, Q);
       if ((o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) continue;
       if (o1 == 0 || o2 == 0 || o3 == 0 || o4 == 0) {
-        if (std::getenv("ISM_DEBUG"))
-          std::fprintf(
-              stderr,
-              "touch: spoke %d-%d (%g %g)-(%g %g) chord %d-%d (%g %g)-(%g %g) o %g %g %g %g\n", na,
-              nb, P.x(), P.y(), Q.x(), Q.y(), chord.a, chord.b, C.x(), C.y(), D.x(), D.y(), o1, o2,
-              o3, o4);
-        if (std::getenv("ISM_DEBUG")) {
-          std::fprintf(stderr, "  v %d ring:", chart.v);
-          for (std::size_t i = 0; i < chart.ring.size(); ++i)
-            std::fprintf(stderr, " %d(sp %d bd %d anchor %d)", chart.ring[i], chart.spoke[i],
-                         chart.boundary[i], chart.ring_anchor[i]);
-          std::fprintf(stderr, "\n  loop:");
-          for (int a : chart.boundary_loop) std::fprintf(stderr, " %d", a);
-          std::fprintf(stderr, "\n");
-        }
-        if (std::getenv("ISM_DEBUG"))
-          for (int a : {chord.a, chord.b}) {
-            const auto& nd = chart.anchors[a].node;
-            std::fprintf(stderr,
-                         "  anchor %d key %d %d %d %d place s %d %d %g place t %d %d %g; chord "
-                         "edge %d ta %g tb %g\n",
-                         a, nd.key.kind, nd.key.a, nd.key.b, nd.key.c, nd.place[s].kind,
-                         nd.place[s].index, nd.place[s].t, nd.place[t].kind, nd.place[t].index,
-                         nd.place[t].t, chord.edge, chord.ta, chord.tb);
-          }
         return eval_fail(93);  // touching
       }
       const double u = o3 / (o3 - o4), lambda = o1 / (o1 - o2);
@@ -940,7 +908,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     }
     piece.face[s] = layout.tris[ti].face;
     piece.area[s] = polygon_area(piece.corner[s]);
-    if (!(piece.area[s] > 0)) return eval_fail(181);
+    if (!(piece.area[s] > 0)) {
+      return eval_fail(181);
+    }
     // The face of t holding it.
     place_faces(meta_, index_, t, place[cell[0]], common);
     for (std::size_t i = 1; i < n && common.size() > 1; ++i) {
@@ -966,31 +936,10 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       break;
     }
     if (h_found < 0) {
-      if (std::getenv("ISM_DEBUG")) {
-        std::fprintf(stderr,
-                     "cell with no face on t (kind %d), %zu corners, common:", int(chart.kind), n);
-        for (int h : common) std::fprintf(stderr, " %d", h);
-        std::fprintf(stderr, "\n");
-        for (int c : cell) {
-          std::fprintf(stderr, "  node %d chart %.6g %.6g place %d %d %.4g", c, pos[c].x(),
-                       pos[c].y(), int(place[c].kind), place[c].index, place[c].t);
-          for (int h : common) {
-            const auto q = place_in_face(meta_, t, h, place[c]);
-            if (q) std::fprintf(stderr, " [%d: %.6g %.6g]", h, q->x(), q->y());
-          }
-          std::fprintf(stderr, "\n");
-        }
-      }
       return eval_fail(205);
     }
     sum += piece_energy(piece, terms);
     if (!(sum < HUGE_VAL)) {
-      if (std::getenv("ISM_DEBUG")) {
-        std::fprintf(stderr, "piece with no triangulation, %zu corners:\n", n);
-        for (std::size_t i = 0; i < n; ++i)
-          std::fprintf(stderr, "  %.6g %.6g | %.6g %.6g\n", piece.corner[0][i].x(),
-                       piece.corner[0][i].y(), piece.corner[1][i].x(), piece.corner[1][i].y());
-      }
       return eval_fail(207);
     }
   }
@@ -1360,32 +1309,10 @@ int InterSurfaceMap::split_next(int s) {
         candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
     double best = HUGE_VAL;
     Vec2 best_pos = chart.centre;
-    if (std::getenv("ISM_DEBUG")) {
-      double fa = 0;
-      for (const auto& f : chart.fragments) fa += polygon_area(f.chart);
-      std::fprintf(
-          stderr,
-          "split chart: ring area %g fragments %zu area %g interior %zu chords %zu centre %g %g\n",
-          polygon_area(chart.w), chart.fragments.size(), fa, chart.interior.size(),
-          chart.chords.size(), chart.centre.x(), chart.centre.y());
-      for (std::size_t i = 0; i < m; ++i) {
-        const auto& loc = meta_.side[s].location[chart.ring[i]];
-        std::fprintf(stderr, "  w %g %g ring %d loc v%d f%d (%g %g %g) spoke %d breaks %zu\n",
-                     chart.w[i].x(), chart.w[i].y(), chart.ring[i], loc.vertex, loc.face,
-                     loc.bary[0], loc.bary[1], loc.bary[2], chart.spoke[i],
-                     meta_.side[s].crossings[chart.spoke[i]].size());
-      }
-      const auto& loc = meta_.side[s].location[chart.v];
-      std::fprintf(stderr, "  v %d loc v%d f%d (%g %g %g)\n", chart.v, loc.vertex, loc.face,
-                   loc.bary[0], loc.bary[1], loc.bary[2]);
-    }
     for (const Vec2& c : candidates) {
       if (!inside_polygon(polygon, c)) continue;
       layout.inner[0].pos = c;
       const double e = evaluate(chart, layout, nullptr);
-      if (std::getenv("ISM_DEBUG"))
-        std::fprintf(stderr, "candidate %g %g: %g (%d) kind %d\n", c.x(), c.y(), e, chart_failure_,
-                     int(chart.kind));
       if (e < best) best = e, best_pos = c;
     }
     if (best < HUGE_VAL) {
@@ -1400,8 +1327,6 @@ int InterSurfaceMap::split_next(int s) {
   for (double eps = 1e-3; eps > 1e-12; eps *= 1e-2) {
     Proposal proposal;
     const bool set_up = split_in_place(chart, last, vs, e_vl, e_vr, eps, proposal);
-    if (std::getenv("ISM_DEBUG"))
-      std::fprintf(stderr, "in place eps %g: set up %d\n", eps, int(set_up));
     if (set_up && apply(s, changed, proposal, 0, false)) {
       ++stats_.splits_in_place;
       return vs;
