@@ -173,9 +173,9 @@ MapMeasures measures(std::span<const MetaPiece> all) {
     return TriangleLengths{(c - b).norm(), (a - c).norm(), (b - a).norm()};
   };
   for (const MetaPiece& piece : all) {
-    const auto triangles = triangulate_piece(piece);
-    const auto [p, q] = piece_points(piece, triangles);
-    for (const auto& t : triangles)
+    const PieceTriangulation tri = triangulate_piece(piece);
+    const auto& [p, q] = tri.points;
+    for (const auto& t : tri.triangles)
       pieces.push_back({lengths(p[t[0]], p[t[1]], p[t[2]]), lengths(q[t[0]], q[t[1]], q[t[2]])});
   }
   if (pieces.empty()) return {};
