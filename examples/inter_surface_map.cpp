@@ -23,6 +23,7 @@
 #include <vector>
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   std::vector<std::string> files;
   std::string pairs_file;
   int faces = 1000;
@@ -83,7 +84,14 @@ int main(int argc, char** argv) {
   ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
-  const ism::SurfaceRefineStats stats = ism::refine_surfaces(map, options);
+  ism::SurfaceRefineStats stats;
+  try {
+    stats = ism::refine_surfaces(map, options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s\n",
+                 map.n_faces(0), map.n_faces(1), e.what());
+    return 1;
+  }
   lap("refine");
   const auto problem = map.validate();
   lap("validate");
@@ -100,5 +108,13 @@ int main(int argc, char** argv) {
       "developed %zu, general %zu; refused by the check %zu)\n",
       stats.splits, stats.sweeps, stats.final_sweeps, st.optimizations, st.moves, st.fast_path,
       st.developed, st.general, st.rejected);
+  if (!problem) {
+    const ism::MetaMeshSize size = ism::meta_mesh_size(map.meta());
+    std::printf(
+        "overlay: %zu pieces, %zu edge crossings, %zu kinks; %zu pieces triangulated (not a fan "
+        "of their corners), %zu points added inside pieces\n",
+        size.pieces, size.crossings, size.kinks, size.triangulated_pieces,
+        size.points_inside_pieces);
+  }
   return problem ? 1 : 0;
 }
