@@ -142,7 +142,9 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path) {
   const MeshFormat format = format_or_fail(path);
   const std::uint64_t size = regular_file_size(path);
   const std::string bytes = read_bytes(path, size);
-  return parse_polygon_soup(bytes, format, path.string());
+  PolygonSoup soup = parse_polygon_soup(bytes, format, path.string());
+  for (Vec3& p : soup.positions) p = p.cast<float>().cast<double>();
+  return soup;
 }
 
 MeshFileSize peek_mesh_size(const std::filesystem::path& path) {
