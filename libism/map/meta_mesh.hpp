@@ -148,9 +148,12 @@ MetaMeshSize meta_mesh_size(const MetaMesh& meta);
 MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pieces);
 
 /// Writes a meta-mesh as text (format in the README, "Meta-mesh files"),
-/// every number exactly. Returns false if the file cannot be written.
+/// every number exactly: version 2 (with kink records) when any edge's image
+/// has a kink, version 1 otherwise. Returns false if the file cannot be
+/// written.
 bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path);
-/// Reads what write_meta_mesh wrote (validate() it before use). Throws
+/// Reads what write_meta_mesh wrote, version 1 or 2 (validate() it before
+/// use). Throws
 /// io::FileError naming the file and line of the first malformed record.
 MetaMesh read_meta_mesh(const std::filesystem::path& path);
 

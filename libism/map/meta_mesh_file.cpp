@@ -16,7 +16,13 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
   std::ofstream out(path);
   if (!out) return false;
   char line[256];
-  out << "ism-meta-mesh 1\n";
+  // Version 2 only when kinks need its k records: a map without kinks is
+  // written exactly as before, for readers of version 1.
+  bool kinks = false;
+  for (const MetaSide& side : meta.side)
+    for (const auto& list : side.crossings)
+      for (const MetaCrossing& c : list) kinks = kinks || c.is_kink();
+  out << (kinks ? "ism-meta-mesh 2\n" : "ism-meta-mesh 1\n");
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
     out << "mesh " << m << ' ' << side.n_vertices() << ' ' << side.faces.size() << '\n';
@@ -43,10 +49,22 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
   const MetaSide& s = meta.side[1];
   for (std::size_t e = 0; e < d.edges.size(); ++e)
     for (const MetaCrossing& c : d.crossings[e]) {
+      if (c.is_kink()) continue;  // k records below
       std::snprintf(line, sizeof line, "x %d %d %d %d %.17g %.17g\n", d.edges[e][0], d.edges[e][1],
                     s.edges[c.edge][0], s.edges[c.edge][1], c.here, c.there);
       out << line;
     }
+  for (int m = 0; m < 2; ++m) {
+    const MetaSide& side = meta.side[m];
+    for (std::size_t e = 0; e < side.edges.size(); ++e)
+      for (const MetaCrossing& c : side.crossings[e]) {
+        if (!c.is_kink()) continue;
+        std::snprintf(line, sizeof line, "k %d %d %d %.17g %d %.17g %.17g %.17g\n", m,
+                      side.edges[e][0], side.edges[e][1], c.here, c.face, c.bary[0], c.bary[1],
+                      c.bary[2]);
+        out << line;
+      }
+  }
   out.flush();
   return bool(out);
 }
@@ -78,13 +96,21 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
   auto fully = [&](std::istringstream& words) { return !words.fail() && complete(words); };
   std::string line;
   ++line_number;
-  if (!std::getline(in, line) || line != "ism-meta-mesh 1") fail("not an ism meta-mesh file");
+  if (!std::getline(in, line) || (line != "ism-meta-mesh 1" && line != "ism-meta-mesh 2"))
+    fail("not an ism meta-mesh file");
+  const int version = line.back() - '0';
   MetaMesh meta;
   int current = -1;
   std::size_t faces_expected[2] = {0, 0};
   bool mesh_seen[2] = {false, false};
   std::vector<std::array<int, 4>> crossing_edges;  // a0 b0 a1 b1 per x line
   std::vector<std::array<double, 2>> crossing_at;
+  struct Kink {
+    int side, a, b;
+    MetaCrossing at;
+    int line;
+  };
+  std::vector<Kink> kinks;
   while (std::getline(in, line)) {
     ++line_number;
     std::istringstream words(line);
@@ -143,6 +169,19 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
         fail("crossing parameters must lie in [0, 1]");
       crossing_edges.push_back(e);
       crossing_at.push_back(s);
+    } else if (kind == "k") {
+      if (version < 2) fail("kink record in a version 1 file (kinks need 'ism-meta-mesh 2')");
+      Kink k{-1, -1, -1, {-1, 0.0, 0.0}, line_number};
+      words >> k.side >> k.a >> k.b >> k.at.here >> k.at.face >> k.at.bary[0] >> k.at.bary[1] >>
+          k.at.bary[2];
+      if (!fully(words) || (k.side != 0 && k.side != 1)) fail("bad kink");
+      if (!(k.at.here > 0 && k.at.here < 1)) fail("a kink's parameter must lie in (0, 1)");
+      if (k.at.face < 0 || std::size_t(k.at.face) >= faces_expected[1 - k.side])
+        fail("a kink in no face of mesh " + std::to_string(1 - k.side));
+      if (!k.at.bary.allFinite() || k.at.bary.minCoeff() < -1e-9 ||
+          std::abs(k.at.bary.sum() - 1) > 1e-9)
+        fail("a kink's barycentric coordinates must be finite, not negative and sum to 1");
+      kinks.push_back(k);
     } else {
       fail("unknown record '" + kind.substr(0, 40) + "'");
     }
@@ -170,6 +209,15 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
     meta.side[0].crossings[a->second].push_back({b->second, s0, s1});
     meta.side[1].crossings[b->second].push_back({a->second, s1, s0});
   }
+  for (const Kink& k : kinks) {
+    line_number = k.line;
+    const auto e = edge_id[k.side].find(undirected_edge_key(k.a, k.b));
+    if (e == edge_id[k.side].end()) fail("a kink of no edge of mesh " + std::to_string(k.side));
+    MetaCrossing c = k.at;
+    if (k.a > k.b) c.here = 1 - c.here;  // stored from the first vertex named
+    meta.side[k.side].crossings[e->second].push_back(c);
+  }
+  line_number = 0;
   for (MetaSide& side : meta.side)
     for (auto& list : side.crossings)
       std::sort(list.begin(), list.end(),

@@ -13,6 +13,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <random>
 
 namespace ism {
@@ -117,6 +120,102 @@ TEST(InterSurfaceMap, SmallPairIsDeterministic) {
     energy[run] = map.energy();
   }
   EXPECT_EQ(energy[0], energy[1]);
+}
+
+// A map of the two-sided core with kinks goes through the meta-mesh file
+// (version 2, k records) and comes back the same map, bit for bit.
+TEST(InterSurfaceMap, MapWithKinksReadsBackFromItsFile) {
+  const TriangleMesh a = shapes::sphere(100), b = shapes::blob(120, 5);
+  const ProgressiveMesh pa = octahedral_pm(a), pb = octahedral_pm(b);
+  InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+  refine_both_checked(map, 10, 7);
+  if (HasFatalFailure()) return;
+  const MetaMesh& meta = map.meta();
+  const MetaMeshSize size = meta_mesh_size(meta);
+  std::printf("kinks %zu, crossings %zu\n", size.kinks, size.crossings);
+  ASSERT_GT(size.kinks, 0u) << "the pair no longer has kinks: pick one that does";
+  const auto path = std::filesystem::temp_directory_path() / "ism_meta_mesh_kinks.meta";
+  ASSERT_TRUE(write_meta_mesh(meta, path));
+  std::string header;
+  {
+    std::ifstream in(path);
+    std::getline(in, header);
+  }
+  EXPECT_EQ(header, "ism-meta-mesh 2");
+  const MetaMesh back = read_meta_mesh(path);
+  EXPECT_EQ(validate(back), std::nullopt);
+  // The reader numbers edges its own way: compare edge by edge through
+  // their vertices.
+  for (int m = 0; m < 2; ++m) {
+    const MetaSide &x = meta.side[m], &y = back.side[m];
+    const MetaSide &xo = meta.side[1 - m], &yo = back.side[1 - m];
+    ASSERT_EQ(x.faces, y.faces);
+    ASSERT_EQ(x.edges.size(), y.edges.size());
+    std::map<std::array<int, 2>, std::size_t> in_y;
+    for (std::size_t e = 0; e < y.edges.size(); ++e) in_y[y.edges[e]] = e;
+    for (std::size_t e = 0; e < x.edges.size(); ++e) {
+      ASSERT_TRUE(in_y.count(x.edges[e]));
+      const auto& a = x.crossings[e];
+      const auto& b = y.crossings[in_y[x.edges[e]]];
+      ASSERT_EQ(a.size(), b.size()) << "side " << m << " edge " << e;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].is_kink(), b[i].is_kink());
+        EXPECT_EQ(a[i].here, b[i].here);
+        if (a[i].is_kink()) {
+          EXPECT_EQ(a[i].face, b[i].face);
+          EXPECT_EQ(a[i].bary, b[i].bary);
+        } else {
+          EXPECT_EQ(xo.edges[a[i].edge], yo.edges[b[i].edge]);
+          EXPECT_EQ(a[i].there, b[i].there);
+        }
+      }
+    }
+  }
+  const MetaMeshSize back_size = meta_mesh_size(back);
+  EXPECT_EQ(back_size.kinks, size.kinks);
+  EXPECT_EQ(back_size.crossings, size.crossings);
+  // Same pieces; summed in the reader's edge order, so equal to rounding.
+  EXPECT_NEAR(measures(back)->symmetric_efficiency, measures(meta)->symmetric_efficiency, 1e-13);
+  EXPECT_EQ(back_size.pieces, size.pieces);
+
+  // Damaged kink records: one line each, naming the line.
+  std::vector<std::string> lines;
+  for (std::ifstream in(path); std::getline(in, header);) lines.push_back(header);
+  std::size_t k = 0;
+  while (k < lines.size() && lines[k].rfind("k ", 0) != 0) ++k;
+  ASSERT_LT(k, lines.size());
+  auto refused = [&](std::vector<std::string> file) {
+    {
+      std::ofstream out(path);
+      for (const auto& l : file) out << l << '\n';
+    }
+    try {
+      read_meta_mesh(path);
+    } catch (const io::FileError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  auto with_kink = [&](const std::string& record) {
+    auto file = lines;
+    file[k] = record;
+    return file;
+  };
+  const std::string line_no = ":" + std::to_string(k + 1) + ": ";
+  auto v1 = lines;
+  v1[0] = "ism-meta-mesh 1";
+  EXPECT_NE(refused(v1).find(line_no + "kink record in a version 1 file"), std::string::npos);
+  EXPECT_NE(refused(with_kink("k 0 0 1 0.5 99999 0.2 0.3 0.5")).find(line_no + "a kink in no face"),
+            std::string::npos);
+  EXPECT_NE(refused(with_kink("k 1 0 1 0.5 0 0.2 0.3 0.6")).find(line_no + "a kink's barycentric"),
+            std::string::npos);
+  EXPECT_NE(refused(with_kink("k 1 0 1 1.5 0 0.2 0.3 0.5")).find(line_no + "a kink's parameter"),
+            std::string::npos);
+  EXPECT_NE(refused(with_kink("k 2 0 1 0.5 0 0.2 0.3 0.5")).find(line_no + "bad kink"),
+            std::string::npos);
+  EXPECT_NE(refused(with_kink("k 0 0 0 0.5 0 0.2 0.3 0.5")).find(line_no + "a kink of no edge"),
+            std::string::npos);
+  std::filesystem::remove(path);
 }
 
 TEST(InterSurfaceMap, BothSidesRefineSphereAndBlob) {
