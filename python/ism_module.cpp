@@ -399,8 +399,9 @@ PYBIND11_MODULE(ism, m) {
                    std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
                    std::optional<double> anisotropy_threshold, const py::object& output,
                    const py::object& normals, const py::object& mesh, int draco_bits,
-                   bool glb_draco, const py::object& preview, const py::object& dump_patches,
-                   const py::object& meta_mesh, const py::object& report, bool quiet) {
+                   bool glb_draco, const py::object& preview, const py::object& mask,
+                   const py::object& dump_patches, const py::object& meta_mesh,
+                   const py::object& report, bool quiet) {
         pipeline::GimRemeshOptions o;
         o.input = input_mesh(surface, faces, "gim_remesh");
         o.features = feature_source(features, "features");
@@ -410,6 +411,7 @@ PYBIND11_MODULE(ism, m) {
         o.normals = optional_path(normals);
         o.mesh = optional_path(mesh);
         o.preview = optional_path(preview);
+        o.mask = optional_path(mask);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
         MapArguments{hold_features,     final_sweeps,         inverse_weight, curvature_weight,
@@ -428,11 +430,14 @@ PYBIND11_MODULE(ism, m) {
       "final_sweeps"_a = 8, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
-      "glb_draco"_a = false, "preview"_a = py::none(), "dump_patches"_a = py::none(),
-      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
+      "glb_draco"_a = false, "preview"_a = py::none(), "mask"_a = py::none(),
+      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
+      "quiet"_a = false,
       "gim_remesh(path or V, F, *, size=257, ...) -> GimRemeshResult(image, normals, vertices, "
       "faces, report)\n\n"
-      "Octahedral geometry image of a closed genus-0 surface, as the gim-remesh tool (same\n"
+      "Octahedral geometry image of a genus-0 surface (holes capped; the output .exr then has\n"
+      "an alpha channel, mask (.png) marks the surface, vertices/faces drop the caps), as the\n"
+      "gim-remesh tool (same\n"
       "options, same defaults: curvature_weight None means the tool's 0.5, inverse_weight None\n"
       "its two map variants). features: a file path, 6 vertex indices or 6 points for\n"
       "+x -x +y -y +z -z (default automatic). output/normals (.exr), mesh (.obj .ply .off .stl\n"

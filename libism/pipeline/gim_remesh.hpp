@@ -1,9 +1,17 @@
 #pragma once
 // gim-remesh's pipeline (paper §6.3): a map from the octahedron, unfolded into
-// the square, to a closed genus-0 surface, optimised for stretch and sampled
-// on an n×n grid. The command-line tool and the Python module both run it.
+// the square, to a genus-0 surface, optimised for stretch and sampled on an
+// n×n grid. The command-line tool and the Python module both run it.
+//
+// A surface with holes (boundary loops) is closed first: each loop capped by
+// a fan around its centre (paper §4), the caps mapped as surface. The image
+// then has an alpha channel (1 on the input surface, 0 on a cap), the remesh
+// drops the grid triangles that touch a cap (open where the input is), and
+// every measure is taken on the input surface alone (stretch weighted by its
+// area, PSNR against it).
 #include "io/draco_io.hpp"
 #include "io/features.hpp"
+#include "mesh/boundary.hpp"
 #include "sample/sample.hpp"
 #include "tool/map_stage.hpp"
 #include "tool/tool.hpp"
@@ -14,15 +22,18 @@ namespace ism::pipeline {
 
 /// gim-remesh's options, with its defaults (README, "Tools").
 struct GimRemeshOptions {
-  tool::InputMesh input;                   // the closed genus-0 surface
+  tool::InputMesh input;                   // a genus-0 surface, closed or not
   io::FeatureSource features;              // 6 vertices for +x -x +y -y +z -z; empty: automatic
   int size = 257;                          // n = 2^k+1
   std::string metric = "right-isosceles";  // or "equilateral"
   // Files written when named (through temporary names): the image (.exr),
   // the normal map (.exr), the remesh (.obj .ply .off .stl .drc .glb), the
-  // PNG preview, the PLY of the patches.
-  std::string output, normals, mesh, preview, dump_patches;
+  // PNG preview, the PNG mask (255 on the input surface, 0 on a cap), the
+  // PLY of the patches.
+  std::string output, normals, mesh, preview, mask, dump_patches;
   io::MeshFileOptions mesh_file;
+  /// How the holes of an open surface are closed (mesh/boundary.hpp).
+  CapOptions cap;
   // Mostly the one-way stretch the image is judged by (bunny, regular
   // octahedron 0.660 -> 0.720), and the symmetric energy without cone
   // relaxation, which flat-faced models need (cube.obj 0.60 -> 0.86). The
@@ -37,9 +48,9 @@ struct GimRemeshOptions {
 };
 
 struct GimRemeshResult {
-  GeometryImage image;    // surface positions (README, "Geometry image layout")
+  GeometryImage image;    // surface positions (README, "Geometry image layout"), alpha if open
   GeometryImage normals;  // unit normals at the same samples
-  TriangleMesh remesh;    // image_to_mesh(image)
+  TriangleMesh remesh;    // image_to_surface_mesh(image)
 };
 
 /// Runs gim-remesh in `run` (stages, progress, report, the files named in
