@@ -12,7 +12,7 @@
 source "$(dirname "$0")/common.sh"
 size="${SIZE:-257}"
 models="${MODELS:-venus venus_loop2 face camelhead mannequin_devil head_3holes bunny_open}"
-cap_models="${CAP_MODELS:-venus_loop2 head_3holes mannequin_devil}"
+cap_models="${CAP_MODELS:-venus_loop2 head_3holes}"
 caps="${CAPS:-0:0 4:0 4:0.5}"
 run() {  # name model extra-options...
   local name="$1" m="$2"
@@ -23,7 +23,13 @@ run() {  # name model extra-options...
 for m in $models; do run "$m" "$m"; done
 run venus_loop2-eq venus_loop2 --metric equilateral
 for m in $cap_models; do
-  for c in $caps; do run "$m-cap-${c/:/-}" "$m" --cap-rings "${c%%:*}" --cap-height "${c##*:}"; done
+  for c in $caps; do
+    if [ "$c" = 0:0 ] && [ -f "$work/$m.json" ]; then  # the default: run above
+      cp "$work/$m.json" "$work/$m-cap-0-0.json"
+    else
+      run "$m-cap-${c/:/-}" "$m" --cap-rings "${c%%:*}" --cap-height "${c##*:}"
+    fi
+  done
 done
 python3 - "$work" "$commit" "$size" "$models" "$cap_models" "$caps" <<'PY'
 import json, os, platform, sys

@@ -300,11 +300,12 @@ PYBIND11_MODULE(ism, m) {
   });
 
   const py::object gim_result =
-      named_tuple("GimRemeshResult", {"image", "normals", "vertices", "faces", "report"},
+      named_tuple("GimRemeshResult", {"image", "normals", "vertices", "faces", "report", "alpha"},
                   "gim_remesh's result: image (n, n, 3) float64 surface positions (README, "
                   "'Geometry image layout'; the .exr holds them as float32), normals (n, n, 3) "
-                  "unit normals, vertices (V, 3) and faces (F, 3) of the image as a mesh, report "
-                  "(dict, as --report).");
+                  "unit normals, vertices (V, 3) and faces (F, 3) of the image as a mesh (open "
+                  "where the input is), report (dict, as --report), alpha (n, n) float32: 1 on "
+                  "the input surface, 0 on a cap that closed a hole (None for a closed input).");
   const py::object semireg_result =
       named_tuple("SemiregResult", {"vertices", "faces", "base_vertices", "base_faces", "report"},
                   "semireg's result: the semi-regular remesh (base vertices first), the base used "
@@ -420,10 +421,16 @@ PYBIND11_MODULE(ism, m) {
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
         const py::ssize_t n = r.image.n;
+        py::object alpha = py::none();
+        if (!r.image.alpha.empty()) {
+          py::array_t<float> a({n, n});
+          std::copy(r.image.alpha.begin(), r.image.alpha.end(), a.mutable_data());
+          alpha = a;
+        }
         return gim_result(positions_array(r.image.pixels, {n, n}),
                           positions_array(r.normals.pixels, {n, n}),
                           positions_array(r.remesh.positions, {py::ssize_t(r.remesh.n_vertices())}),
-                          faces_array(r.remesh.triangles), rep);
+                          faces_array(r.remesh.triangles), rep, alpha);
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
       "metric"_a = "right-isosceles", "features"_a = py::none(), "hold_features"_a = false,
