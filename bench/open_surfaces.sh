@@ -5,15 +5,17 @@
 # the map's one-way efficiency on the input surface, image efficiency and
 # folds on the remesh, PSNR of the remesh against the input, the remesh's
 # loops; venus_loop2 also with the paper's equilateral metric next to its
-# Venus (Table 1). Then the cap shapes compared (CAPS, default: the fan, the
-# fan cut by 4 rings flat, and as a dome of height 0.5) on CAP_MODELS.
+# Venus (Table 1). Then the cap shapes compared (CAPS, RINGS:HEIGHT, default:
+# the fan, the fan cut by 4 flat rings (gim-remesh's default, DEFAULT_CAP),
+# 8 flat rings, 4 rings as a dome of height 0.5) on CAP_MODELS.
 # Prints Markdown; needs python3.
 #   bench/open_surfaces.sh > docs/results-open-surfaces.md
 source "$(dirname "$0")/common.sh"
 size="${SIZE:-257}"
 models="${MODELS:-venus venus_loop2 face camelhead mannequin_devil head_3holes bunny_open}"
 cap_models="${CAP_MODELS:-venus_loop2 head_3holes}"
-caps="${CAPS:-0:0 4:0 4:0.5}"
+caps="${CAPS:-0:0 4:0 8:0 4:0.5}"
+default_cap="${DEFAULT_CAP:-4:0}"
 run() {  # name model extra-options...
   local name="$1" m="$2"
   shift 2
@@ -24,8 +26,8 @@ for m in $models; do run "$m" "$m"; done
 run venus_loop2-eq venus_loop2 --metric equilateral
 for m in $cap_models; do
   for c in $caps; do
-    if [ "$c" = 0:0 ] && [ -f "$work/$m.json" ]; then  # the default: run above
-      cp "$work/$m.json" "$work/$m-cap-0-0.json"
+    if [ "$c" = "$default_cap" ] && [ -f "$work/$m.json" ]; then  # the default: run above
+      cp "$work/$m.json" "$work/$m-cap-${c/:/-}.json"
     else
       run "$m-cap-${c/:/-}" "$m" --cap-rings "${c%%:*}" --cap-height "${c##*:}"
     fi
@@ -38,7 +40,7 @@ def load(name):
     return json.load(open(os.path.join(work, name + ".json")))
 print(f"gim-remesh on open genus-0 surfaces, {size}x{size}, {os.cpu_count()} cores ({platform.machine()}). Commit {commit}.")
 print()
-print("Holes are capped by a fan around each loop's centroid (default), the closed surface is mapped and sampled, "
+print("Holes are capped by a fan around each loop's centroid cut by 4 flat rings (the default), the closed surface is mapped and sampled, "
       "alpha marks the input surface. Every figure is on the input surface alone: map efficiency domain->surface "
       "over the input's faces, image efficiency (unit square) and folded triangles over the remesh (grid triangles "
       "with alpha 1 at all corners), PSNR of the remesh against the input. Times in seconds.")

@@ -72,7 +72,6 @@ class InputFaces {
       on_input_[key(network.surface.positions, network.surface.triangles[f])] =
           !capped.is_cap_face(network.face_origin[f]);
   }
-  bool empty() const { return on_input_.empty(); }
 
   /// Per face of the map: 1 on the input surface, 0 on a cap (empty when
   /// there are no caps: every face counts).
@@ -129,8 +128,8 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
                                  .min_vertices_reason = "one per octahedron vertex"});
 
   // Holes are closed by caps the map treats as surface (paper §4: a fan
-  // around each loop's centre); the image samples the closed surface and
-  // its alpha tells which samples fell on a cap.
+  // around each loop's centre, here cut by rings); the image samples the
+  // closed surface and its alpha tells which samples fell on a cap.
   CappedMesh capped;
   try {
     capped = cap_boundary_loops(surface, boundary_loops(surface), o.cap);

@@ -26,7 +26,7 @@ int main(int argc, char** argv) {
   tool::add_mesh_file_options(app, o.mesh_file);
   app.add_option("--preview", o.preview, "PNG preview: image and shaded normals side by side");
   app.add_option("--cap-rings", o.cap.rings,
-                 "Open surfaces: rings cutting each hole's fan cap (default 0: the fan)")
+                 "Open surfaces: flat rings cutting each hole's fan cap (default 4; 0: the fan)")
       ->check(CLI::Range(0, 64));
   app.add_option("--cap-height", o.cap.height,
                  "Open surfaces: the cap's dome height, times the hole's radius (default 0: flat)")
