@@ -4,6 +4,8 @@
 #include "mesh/mesh_check.hpp"
 #include "shapes/shapes.hpp"
 
+#include "closed_surface_checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,11 +15,7 @@
 namespace ism {
 namespace {
 
-MeshCheck check_of(const TriangleMesh& mesh) {
-  PolygonSoup soup{mesh.positions, {}};
-  for (const Triangle& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
-  return prepare_mesh(soup).check;
-}
+using test::check_of;
 
 // A sphere with the faces around two far apart vertices removed: two holes,
 // each with as many vertices as the removed vertex had neighbours

@@ -5,6 +5,8 @@
 #include "mesh/union_find.hpp"
 #include "metrics/metrics.hpp"
 
+#include "closed_surface_checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
@@ -407,9 +409,7 @@ TEST(Sample, SurfaceMeshDropsTheGridTrianglesThatTouchACap) {
   EXPECT_EQ(open.n_faces(), off_cap);
   EXPECT_LT(open.n_faces(), all.n_faces());
   // A disc removed from a sphere: one boundary loop, genus 0, no stray vertex.
-  PolygonSoup soup{open.positions, {}};
-  for (const Triangle& t : open.triangles) soup.faces.push_back({t[0], t[1], t[2]});
-  const MeshCheck c = prepare_mesh(soup).check;
+  const MeshCheck c = test::check_of(open);
   EXPECT_TRUE(c.valid_surface());
   EXPECT_EQ(c.boundary_loops, 1u);
   EXPECT_EQ(c.genus, 0);

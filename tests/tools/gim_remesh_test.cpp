@@ -7,6 +7,8 @@
 #include "test_support.hpp"
 #include "tools_support.hpp"
 
+#include "closed_surface_checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +18,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using ism::test::check_of;
 using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
@@ -26,10 +29,7 @@ using ism::test::slurp;
 void expect_watertight_image(const fs::path& exr, int n) {
   const ism::GeometryImage image = ism::read_geometry_image(exr);
   EXPECT_EQ(image.n, n);
-  const ism::TriangleMesh mesh = ism::image_to_mesh(image);
-  ism::PolygonSoup soup{mesh.positions, {}};
-  for (const auto& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
-  const ism::MeshCheck c = ism::prepare_mesh(soup).check;
+  const ism::MeshCheck c = check_of(ism::image_to_mesh(image));
   EXPECT_TRUE(c.valid_surface());
   EXPECT_TRUE(c.closed());
   EXPECT_EQ(c.genus, 0);
@@ -191,12 +191,6 @@ double distance_to_faces(const ism::Vec3& p, const ism::TriangleMesh& mesh, std:
                                             mesh.positions[t[2]]));
   }
   return d;
-}
-
-ism::MeshCheck check_of(const ism::TriangleMesh& mesh) {
-  ism::PolygonSoup soup{mesh.positions, {}};
-  for (const auto& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
-  return ism::prepare_mesh(soup).check;
 }
 
 // An open genus-0 surface: its holes are capped and mapped with it; the
