@@ -56,7 +56,7 @@ run() {
   if [ "$status" -eq 124 ]; then
     seconds="TIMEOUT" peak="-"
   else
-    read -r seconds peak <"$work/time"
+    read -r seconds peak < <(tail -n 1 "$work/time")  # after "Command exited with ..."
     peak=$((peak / 1024))
   fi
   answer="$(head -c 160 "$work/err" | tr '\n|' ' /' | sed "s|$root/tests/data/hostile/||g; s|$gen/||g; s|$work/||g")"

@@ -1,14 +1,16 @@
-// A map between two genus-0 surfaces with both sides refining (the
-// symmetric map core): each surface partitioned against the octahedron,
-// both progressive meshes replayed together, the symmetric stretch
-// optimised on both; validation from both sides and the measures.
-//   inter_surface_map [A.obj B.obj [--decimate V]] [--faces N] [--validate-each-step]
+// A map between two closed surfaces of the same genus with both sides
+// refining (the symmetric map core): compatible path networks on both
+// surfaces (from feature pairs, or features added automatically), both
+// progressive meshes to their one base replayed together, the symmetric
+// stretch optimised on both; validation from both sides and the measures.
+//   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
+//                     [--validate-each-step]
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
-#include "domain/domain.hpp"
+#include "io/features.hpp"
 #include "io/io.hpp"
 #include "mesh/mesh_check.hpp"
-#include "partition/partition.hpp"
+#include "partition/compatible_networks.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine_surfaces.hpp"
 #include "shapes/shapes.hpp"
@@ -21,7 +23,9 @@
 #include <vector>
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   std::vector<std::string> files;
+  std::string pairs_file;
   int faces = 1000;
   std::size_t decimate = 0;
   bool each = false;
@@ -30,6 +34,8 @@ int main(int argc, char** argv) {
       each = true;
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
+      pairs_file = argv[++i];
     else if (std::strcmp(argv[i], "--decimate") == 0 && i + 1 < argc)
       decimate = std::size_t(std::atol(argv[++i]));
     else
@@ -37,7 +43,8 @@ int main(int argc, char** argv) {
   }
   if (!(files.empty() || files.size() == 2)) {
     std::fprintf(stderr,
-                 "usage: inter_surface_map [A.obj B.obj] [--faces N] [--validate-each-step]\n");
+                 "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
+                 "[--validate-each-step]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -59,17 +66,32 @@ int main(int argc, char** argv) {
       b = ism::base_mesh(ism::simplify_to(b, decimate));
     }
   }
+  std::vector<std::array<int, 2>> pairs;
+  if (!pairs_file.empty()) {
+    if (decimate > 0) {
+      std::fprintf(stderr,
+                   "inter_surface_map: --pairs needs the meshes as they are (no --decimate)\n");
+      return 2;
+    }
+    pairs = ism::io::read_feature_pairs(pairs_file, a, b).pairs;
+  }
   lap("input");
-  const ism::TriangleMesh octahedron = ism::domain::octahedron();
-  const ism::ProgressiveMesh pa =
-      ism::simplify_constrained(ism::trace_octahedral_network(a), octahedron);
-  const ism::ProgressiveMesh pb =
-      ism::simplify_constrained(ism::trace_octahedral_network(b), octahedron);
+  const ism::CompatibleNetworks networks = ism::trace_compatible_networks(a, b, pairs);
+  const auto pms = ism::simplify_compatible(networks);
+  std::printf("base: %zu vertices (%zu features given), %zu faces; genus %d\n",
+              networks.base.n_vertices(), pairs.size(), networks.base.n_faces(), networks.genus);
   lap("partition");
-  ism::InterSurfaceMap map(ism::side_from_pm(pa), ism::side_from_pm(pb));
+  ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
-  const ism::SurfaceRefineStats stats = ism::refine_surfaces(map, options);
+  ism::SurfaceRefineStats stats;
+  try {
+    stats = ism::refine_surfaces(map, options);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s\n",
+                 map.n_faces(0), map.n_faces(1), e.what());
+    return 1;
+  }
   lap("refine");
   const auto problem = map.validate();
   lap("validate");
@@ -86,5 +108,13 @@ int main(int argc, char** argv) {
       "developed %zu, general %zu; refused by the check %zu)\n",
       stats.splits, stats.sweeps, stats.final_sweeps, st.optimizations, st.moves, st.fast_path,
       st.developed, st.general, st.rejected);
+  if (!problem) {
+    const ism::MetaMeshSize size = ism::meta_mesh_size(map.meta());
+    std::printf(
+        "overlay: %zu pieces, %zu edge crossings, %zu kinks; %zu pieces triangulated (not a fan "
+        "of their corners), %zu points added inside pieces\n",
+        size.pieces, size.crossings, size.kinks, size.triangulated_pieces,
+        size.points_inside_pieces);
+  }
   return problem ? 1 : 0;
 }

@@ -44,6 +44,10 @@ bool is_readable_mesh_extension(const std::filesystem::path& path);
 /// byte-order mark is skipped. Throws FileError naming the file (and the line
 /// for text formats) for anything else: a count the file cannot hold, a
 /// truncated file, a face index that is not a vertex, no faces.
+/// Coordinates are kept at single precision (each rounded to the nearest
+/// float), as mesh files mostly store them and as the tools have always read
+/// them: every published figure was measured on inputs read so, and the
+/// optimisation is sensitive to the last bits of its input.
 PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 
 /// read_polygon_soup() on the bytes of a file already in memory; `name`

@@ -84,5 +84,15 @@ Eigen::Vector3d barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const V
 inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
+/// Signed area of a polygon (shoelace): positive when counter-clockwise.
+inline double polygon_area(const std::vector<Vec2>& polygon) {
+  double twice = 0.0;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec2& a = polygon[i];
+    const Vec2& b = polygon[(i + 1) % polygon.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
 
 }  // namespace ism

@@ -19,15 +19,6 @@ namespace {
 
 using Layout3 = std::array<Vec2, 3>;
 
-double polygon_area(const std::vector<Vec2>& p) {
-  double a = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
-    a += u.x() * v.y() - u.y() * v.x();
-  }
-  return 0.5 * a;
-}
-
 bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
   bool in = false;
   for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
@@ -495,13 +486,11 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         MetaPiece both;
         both.corner = {fragment.chart, fragment.other};
         both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
-        fragment.triangles = triangulate_piece(both);
-        if (fragment.triangles.empty()) {
-          return chart_fail(403);
-        }
-        const auto points = piece_points(both, fragment.triangles);
-        fragment.tri_chart = points[0];
-        fragment.tri_other = points[1];
+        PieceTriangulation tri = triangulate_piece(both);
+        if (tri.triangles.empty()) return chart_fail(403);
+        fragment.triangles = std::move(tri.triangles);
+        fragment.tri_chart = std::move(tri.points[0]);
+        fragment.tri_other = std::move(tri.points[1]);
       }
       chart.fragments.push_back(std::move(fragment));
     }

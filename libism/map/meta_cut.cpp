@@ -23,15 +23,6 @@ std::string edge_name(const MetaSide& side, int s, int e) {
          std::to_string(side.edges[e][1]);
 }
 
-double polygon_area(const std::vector<Vec2>& p) {
-  double a = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
-    a += u.x() * v.y() - u.y() * v.x();
-  }
-  return 0.5 * a;
-}
-
 }  // namespace
 
 // ---------------------------------------------------------------- index
@@ -423,20 +414,111 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
 
 // ---------------------------------------------------------------- triangulation
 
-std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt) {
-  if (cdt) *cdt = false;
+namespace {
+
+// The centre of a star triangulation on one side: the centroid of the
+// polygon's kernel (the mean of the corners if it has none).
+Vec2 star_centre(const std::vector<Vec2>& c) {
+  if (const std::optional<Vec2> k = kernel_centroid(c)) return *k;
+  Vec2 sum = Vec2::Zero();
+  for (const Vec2& p : c) sum += p;
+  return sum / double(c.size());
+}
+
+// A compatible triangulation of two polygons with corresponding corners
+// through a common convex drawing: each polygon's constrained Delaunay
+// triangulation is drawn on one strictly convex polygon C with the same
+// corners (any triangulation of a convex polygon on its corners is valid
+// there), the two drawings are overlaid, and every cell of the overlay (the
+// convex intersection of a triangle of each) is mapped back affinely
+// through its triangle on each side. The added points are the crossings of
+// a diagonal of one triangulation with one of the other, placed on each side
+// at the crossing's parameter along that side's own diagonal; cells are
+// fanned. Empty if either polygon has no triangulation.
+PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::vector<Vec2>& Q) {
+  PieceTriangulation out;
+  const int n = int(P.size());
+  const auto tp = polygon_cdt(P), tq = polygon_cdt(Q);
+  if (!tp || !tq) return out;
+  // Corners of C on the unit circle at irregular angles: diagonals of a
+  // regular polygon can meet three at a point, these (generically) do not.
+  std::vector<Vec2> C(n);
+  for (int i = 0; i < n; ++i) {
+    const double jitter = 0.35 * (std::fmod(0.6180339887498949 * (i + 1), 1.0) - 0.5);
+    const double angle = 2 * M_PI * (i + jitter) / n;
+    C[i] = Vec2(std::cos(angle), std::sin(angle));
+  }
+  out.points = {P, Q};
+  // Crossings of a diagonal of tp's triangle edge (a, b) with one of tq's
+  // (c, d): strictly interleaved ends.
+  std::map<std::array<int, 4>, int> crossing;
+  auto between = [n](int x, int lo, int hi) {  // x strictly inside the arc lo -> hi
+    const int dx = (x - lo + n) % n, dh = (hi - lo + n) % n;
+    return dx > 0 && dx < dh;
+  };
+  auto cross = [&](int a, int b, int c, int d) -> int {
+    if (a == c || a == d || b == c || b == d) return -1;
+    if (between(c, a, b) == between(d, a, b)) return -1;
+    const std::array<int, 4> key{std::min(a, b), std::max(a, b), std::min(c, d), std::max(c, d)};
+    if (const auto it = crossing.find(key); it != crossing.end()) return it->second;
+    const int ea = key[0], eb = key[1], ec = key[2], ed = key[3];
+    const Vec2 u = C[eb] - C[ea], v = C[ed] - C[ec], w = C[ec] - C[ea];
+    const double den = u.x() * v.y() - u.y() * v.x();
+    const double lambda = (w.x() * v.y() - w.y() * v.x()) / den;
+    const double mu = (w.x() * u.y() - w.y() * u.x()) / den;
+    const int id = int(out.points[0].size());
+    out.points[0].push_back(P[ea] + lambda * (P[eb] - P[ea]));
+    out.points[1].push_back(Q[ec] + mu * (Q[ed] - Q[ec]));
+    crossing.emplace(key, id);
+    return id;
+  };
+  std::vector<Vec2> inC = C;  // positions on C of all points, for ordering cells
+  for (const auto& a : *tp)
+    for (const auto& b : *tq) {
+      std::vector<int> cell;
+      for (int i : a)
+        if (i == b[0] || i == b[1] || i == b[2]) cell.push_back(i);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          const int id = cross(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]);
+          if (id < 0) continue;
+          if (std::find(cell.begin(), cell.end(), id) == cell.end()) cell.push_back(id);
+        }
+      if (cell.size() < 3) continue;
+      inC.resize(out.points[0].size());
+      for (const auto& [key, id] : crossing) {
+        const Vec2 u = C[key[1]] - C[key[0]], v = C[key[3]] - C[key[2]], w = C[key[2]] - C[key[0]];
+        inC[id] = C[key[0]] + (w.x() * v.y() - w.y() * v.x()) / (u.x() * v.y() - u.y() * v.x()) * u;
+      }
+      Vec2 centre = Vec2::Zero();
+      for (int i : cell) centre += inC[i];
+      centre /= double(cell.size());
+      std::sort(cell.begin(), cell.end(), [&](int x, int y) {
+        return std::atan2(inC[x].y() - centre.y(), inC[x].x() - centre.x()) <
+               std::atan2(inC[y].y() - centre.y(), inC[y].x() - centre.x());
+      });
+      for (std::size_t k = 1; k + 1 < cell.size(); ++k)
+        out.triangles.push_back({cell[0], cell[k], cell[k + 1]});
+    }
+  return out;
+}
+
+}  // namespace
+
+PieceTriangulation triangulate_piece(const MetaPiece& piece) {
+  PieceTriangulation out;
   const auto& P = piece.corner[0];
   const auto& Q = piece.corner[1];
   const int n = int(P.size());
-  std::vector<std::array<int, 3>> out;
   if (n < 3) return out;
+  out.points = {P, Q};
   // Areas from the corners themselves: the result depends on nothing else.
   const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
   auto quality = [&](int a, int b, int c) {
     return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
   };
   if (n == 3) {
-    if (quality(0, 1, 2) > 0) out.push_back({0, 1, 2});
+    if (quality(0, 1, 2) > 0) out.triangles.push_back({0, 1, 2});
     return out;
   }
   // The fan whose worst triangle is best (relative to the piece's areas),
@@ -450,24 +532,29 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
     if (worst > best_quality) best_quality = worst, best = a;
   }
   if (best >= 0) {
-    for (int j = 1; j + 1 < n; ++j) out.push_back({best, (best + j) % n, (best + j + 1) % n});
+    for (int j = 1; j + 1 < n; ++j)
+      out.triangles.push_back({best, (best + j) % n, (best + j + 1) % n});
     return out;
   }
-  // A star around one point of the piece (index n: on each side the
-  // centroid of the polygon's kernel, the two mapped to each other): pieces
-  // with runs of collinear corners on both sides, where no fan is valid.
+  // A star around one point of the piece (on each side the centroid of the
+  // polygon's kernel, the two mapped to each other): pieces with runs of
+  // collinear corners on both sides, where no fan is valid.
   {
-    const Vec2 cp = piece_point(piece, 0, n), cq = piece_point(piece, 1, n);
+    const Vec2 cp = star_centre(P), cq = star_centre(Q);
     bool ok = true;
     for (int i = 0; i < n && ok; ++i) {
       const int j = (i + 1) % n;
       ok = orient(cp, P[i], P[j]) / ap > 1e-12 && orient(cq, Q[i], Q[j]) / aq > 1e-12;
     }
     if (ok) {
-      for (int i = 0; i < n; ++i) out.push_back({n, i, (i + 1) % n});
+      out.points[0].push_back(cp);
+      out.points[1].push_back(cq);
+      for (int i = 0; i < n; ++i) out.triangles.push_back({n, i, (i + 1) % n});
+      out.added = true;
       return out;
     }
   }
+  out.cdt = true;
   for (int side = 0; side < 2; ++side) {
     const auto triangles = polygon_cdt(piece.corner[side]);
     if (!triangles) continue;
@@ -475,15 +562,15 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
     for (const auto& t : *triangles)
       if (!(quality(t[0], t[1], t[2]) > 0)) ok = false;
     if (ok) {
-      if (cdt) *cdt = true;
-      return *triangles;
+      out.triangles = *triangles;
+      return out;
     }
   }
-  // Last: of all triangulations on the corners, the one whose worst
-  // triangle (on either side) is best, by dynamic programming over the
-  // polygon's sub-chains (O(n³)). All triangles positive on both sides
-  // makes it a valid triangulation of both polygons (a locally injective
-  // map of a disc whose boundary goes round once).
+  // Of all triangulations on the corners, the one whose worst triangle (on
+  // either side) is best, by dynamic programming over the polygon's
+  // sub-chains (O(n³)). All triangles positive on both sides makes it a
+  // valid triangulation of both polygons (a locally injective map of a disc
+  // whose boundary goes round once).
   std::vector<double> best_q(std::size_t(n) * n, -HUGE_VAL);
   std::vector<int> split(std::size_t(n) * n, -1);
   auto at = [&](int i, int j) { return std::size_t(i) * n + j; };
@@ -496,40 +583,31 @@ std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* 
         if (q > best_q[at(i, j)]) best_q[at(i, j)] = q, split[at(i, j)] = k;
       }
     }
-  if (!(best_q[at(0, n - 1)] > 0)) return out;
-  std::vector<std::array<int, 2>> stack{{0, n - 1}};
-  while (!stack.empty()) {
-    const auto [i, j] = stack.back();
-    stack.pop_back();
-    if (j - i < 2) continue;
-    const int k = split[at(i, j)];
-    out.push_back({i, k, j});
-    stack.push_back({i, k});
-    stack.push_back({k, j});
-  }
-  if (cdt) *cdt = true;
-  return out;
-}
-
-Vec2 piece_point(const MetaPiece& piece, int side, int i) {
-  const auto& c = piece.corner[side];
-  if (i < int(c.size())) return c[i];
-  if (const std::optional<Vec2> k = kernel_centroid(c)) return *k;
-  Vec2 sum = Vec2::Zero();
-  for (const Vec2& p : c) sum += p;
-  return sum / double(c.size());
-}
-
-std::array<std::vector<Vec2>, 2> piece_points(const MetaPiece& piece,
-                                              const std::vector<std::array<int, 3>>& triangles) {
-  std::array<std::vector<Vec2>, 2> out{piece.corner[0], piece.corner[1]};
-  const int n = int(piece.corner[0].size());
-  for (const auto& t : triangles)
-    if (t[0] == n || t[1] == n || t[2] == n) {
-      for (int side = 0; side < 2; ++side) out[side].push_back(piece_point(piece, side, n));
-      break;
+  if (best_q[at(0, n - 1)] > 0) {
+    std::vector<std::array<int, 2>> stack{{0, n - 1}};
+    while (!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      if (j - i < 2) continue;
+      const int k = split[at(i, j)];
+      out.triangles.push_back({i, k, j});
+      stack.push_back({i, k});
+      stack.push_back({k, j});
     }
-  return out;
+    return out;
+  }
+  // Last: a compatible triangulation with points added inside the piece.
+  PieceTriangulation overlay = overlay_triangulation(P, Q);
+  for (const auto& t : overlay.triangles) {
+    const auto& p = overlay.points[0];
+    const auto& q = overlay.points[1];
+    if (!(orient(p[t[0]], p[t[1]], p[t[2]]) / ap > 0 && orient(q[t[0]], q[t[1]], q[t[2]]) / aq > 0))
+      return PieceTriangulation{{}, {P, Q}, false, true};
+  }
+  if (overlay.triangles.empty()) return PieceTriangulation{{}, {P, Q}, false, true};
+  overlay.added = true;
+  overlay.cdt = true;
+  return overlay;
 }
 
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
@@ -553,11 +631,11 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
 }
 
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {
-  const auto triangles = triangulate_piece(piece);
-  if (triangles.empty()) return HUGE_VAL;
+  const PieceTriangulation tri = triangulate_piece(piece);
+  if (tri.triangles.empty()) return HUGE_VAL;
   double sum = 0;
-  const auto [p, q] = piece_points(piece, triangles);
-  for (const auto& t : triangles)
+  const auto& [p, q] = tri.points;
+  for (const auto& t : tri.triangles)
     sum += triangle_energy({p[t[0]], p[t[1]], p[t[2]]}, {q[t[0]], q[t[1]], q[t[2]]}, terms,
                            forward_weight);
   return sum;

@@ -97,17 +97,29 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
     const std::vector<Vec2>& position, const std::vector<std::array<int, 2>>& segments,
     std::string* error = nullptr);
 
-/// A triangulation of a piece by its corner indices, counter-clockwise and
-/// of positive area in both layouts: the fan whose worst triangle is best
-/// when one works (always for a piece convex on both sides without
-/// collinear corners); else a star around a point inside (index n = the
-/// number of corners, piece_point) if it works on both sides; else
+/// A triangulation of a piece valid on both sides: triangles index
+/// points[s], the piece's corners first, then points added inside it (the map
+/// is affine on each triangle, so an added point is a kink of the map).
+struct PieceTriangulation {
+  std::vector<std::array<int, 3>> triangles;  // empty: none found
+  std::array<std::vector<Vec2>, 2> points;    // corners, then added points, per side
+  bool added = false;                         // points were added inside the piece
+  bool cdt = false;                           // not a fan or a star (counted by the map)
+};
+
+/// A triangulation of a piece, counter-clockwise and of positive area in
+/// both layouts: the fan whose worst triangle is best when one works (always
+/// for a piece convex on both sides without collinear corners); else a star
+/// around the centroid of each side's kernel if it works on both sides; else
 /// the constrained Delaunay triangulation of one side's polygon if it is
 /// valid on the other; else the triangulation on the corners whose worst
-/// triangle is best. Empty if no triangulation on the corners is valid on
-/// both sides. `cdt` tells whether one of the last two was used. Depends only on the piece's
-/// corners, so it is the same from whichever side the piece was cut.
-std::vector<std::array<int, 3>> triangulate_piece(const MetaPiece& piece, bool* cdt = nullptr);
+/// triangle is best; else a compatible triangulation with added points (the
+/// two polygons' triangulations overlaid on a common convex drawing), which
+/// exists for any two simple counter-clockwise polygons. Empty only if
+/// neither of those is valid (e.g. a polygon that is not simple). Depends
+/// only on the piece's corners, so it is the same from whichever side the
+/// piece was cut.
+PieceTriangulation triangulate_piece(const MetaPiece& piece);
 
 /// The weights of the energy the map core lowers: symmetric stretch (paper
 /// §5.2), side 0 read as the domain, with the inverse term (side 1 -> side
@@ -123,14 +135,6 @@ struct EnergyTerms {
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
-/// Corner i of a piece on a side, or for i = the number of corners the
-/// centre of a star triangulation: the centroid of the polygon's kernel
-/// (the mean of the corners if it has none).
-Vec2 piece_point(const MetaPiece& piece, int side, int i);
-/// The points a triangulation of the piece refers to, on each side: its
-/// corners, and the star centre when a triangle uses it.
-std::array<std::vector<Vec2>, 2> piece_points(const MetaPiece& piece,
-                                              const std::vector<std::array<int, 3>>& triangles);
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
 
 }  // namespace ism

@@ -138,10 +138,14 @@ struct MetaMeshSize {
   std::size_t shared_vertices = 0;  // vertices of both meshes at one point
   std::size_t kinks = 0;            // kink points of either mesh's edges
   std::size_t pieces = 0;
+  /// Pieces that are not a fan of their corners (triangulate_piece: a star,
+  /// a constrained Delaunay or other triangulation of a non-convex piece),
+  /// and the points added inside pieces (where the map bends inside a piece).
+  std::size_t triangulated_pieces = 0, points_inside_pieces = 0;
 };
 MetaMeshSize meta_mesh_size(const MetaMesh& meta);
-/// The same with the pieces already counted (meta_pieces): no second cut.
-MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::size_t pieces);
+/// The same with the pieces already cut (meta_pieces): no second cut.
+MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pieces);
 
 /// Writes a meta-mesh as text (format in the README, "Meta-mesh files"),
 /// every number exactly. Returns false if the file cannot be written.

@@ -173,9 +173,9 @@ MapMeasures measures(std::span<const MetaPiece> all) {
     return TriangleLengths{(c - b).norm(), (a - c).norm(), (b - a).norm()};
   };
   for (const MetaPiece& piece : all) {
-    const auto triangles = triangulate_piece(piece);
-    const auto [p, q] = piece_points(piece, triangles);
-    for (const auto& t : triangles)
+    const PieceTriangulation tri = triangulate_piece(piece);
+    const auto& [p, q] = tri.points;
+    for (const auto& t : tri.triangles)
       pieces.push_back({lengths(p[t[0]], p[t[1]], p[t[2]]), lengths(q[t[0]], q[t[1]], q[t[2]])});
   }
   if (pieces.empty()) return {};
@@ -184,12 +184,18 @@ MapMeasures measures(std::span<const MetaPiece> all) {
 }
 
 MetaMeshSize meta_mesh_size(const MetaMesh& meta) {
-  return meta_mesh_size(meta, cut(meta).pieces[0].size());
+  return meta_mesh_size(meta, cut(meta).pieces[0]);
 }
 
-MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::size_t pieces) {
+MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pieces) {
   MetaMeshSize size;
-  size.pieces = pieces;
+  size.pieces = pieces.size();
+  for (const MetaPiece& piece : pieces) {
+    if (piece.corner[0].size() <= 3) continue;
+    const PieceTriangulation tri = triangulate_piece(piece);
+    size.triangulated_pieces += tri.added || tri.cdt;
+    size.points_inside_pieces += tri.points[0].size() - piece.corner[0].size();
+  }
   for (const auto& list : meta.side[0].crossings)
     for (const MetaCrossing& c : list) size.crossings += !c.is_kink();
   for (const MetaSide& side : meta.side)

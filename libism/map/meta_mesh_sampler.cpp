@@ -14,8 +14,9 @@ MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
   pieces_ = std::move(*pieces);
   triangles_.reserve(pieces_.size());
   for (const MetaPiece& piece : pieces_) {
-    triangles_.push_back(triangulate_piece(piece));
-    points_.push_back(piece_points(piece, triangles_.back()));
+    PieceTriangulation tri = triangulate_piece(piece);
+    triangles_.push_back(std::move(tri.triangles));
+    points_.push_back(std::move(tri.points));
   }
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];

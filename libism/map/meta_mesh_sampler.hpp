@@ -38,7 +38,7 @@ class MetaMeshSampler {
   };
   std::vector<MetaPiece> pieces_;
   std::vector<std::vector<std::array<int, 3>>> triangles_;  // triangulate_piece of each
-  std::vector<std::array<std::vector<Vec2>, 2>> points_;    // piece_points of each
+  std::vector<std::array<std::vector<Vec2>, 2>> points_;    // their points (PieceTriangulation)
   std::array<std::vector<std::array<Vec2, 3>>, 2> layout_;
   std::array<std::vector<Grid>, 2> grid_;
 };

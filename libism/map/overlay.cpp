@@ -4,16 +4,6 @@
 
 namespace ism {
 
-double polygon_area(const std::vector<Vec2>& polygon) {
-  double twice = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Vec2& a = polygon[i];
-    const Vec2& b = polygon[(i + 1) % polygon.size()];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  return 0.5 * twice;
-}
-
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle) {
   for (int k = 0; k < 3 && !polygon.empty(); ++k) {
     const Vec2& a = triangle[k];

@@ -22,6 +22,5 @@ bool for_each_piece(const SurfaceMap& map, int t,
 
 /// Convex polygon clipped by the triangle (a, b, c), counter-clockwise.
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle);
-double polygon_area(const std::vector<Vec2>& polygon);
 
 }  // namespace ism

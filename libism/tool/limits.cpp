@@ -219,10 +219,13 @@ void check_semiregular(const Run& run, std::size_t base_faces, int levels,
 void check_base_size(const Run& run, std::size_t base_size, std::uint64_t surface_vertices,
                      const std::string& surface_file) {
   if (base_size < surface_vertices) return;
+  const std::string advice =
+      surface_vertices > 4
+          ? "use --base-size " + std::to_string(surface_vertices - 1) + " or less"
+          : "a base has at least 4 vertices, so this surface is too small for one";
   throw Failure(run.tool_name() + ": --base-size " + std::to_string(base_size) + " is not below " +
                 surface_file + "'s " + std::to_string(surface_vertices) +
-                " vertices; a base decimates the surface (use --base-size " +
-                std::to_string(surface_vertices > 4 ? surface_vertices - 1 : 4) + " or less)");
+                " vertices; a base decimates the surface (" + advice + ")");
 }
 
 void check_base_size(const Run& run, std::size_t base_size, const std::string& surface_file) {

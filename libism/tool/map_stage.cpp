@@ -170,13 +170,16 @@ MetaMesh validate_map(Run& run, const SurfaceMap& map) {
   const auto pieces = meta_pieces(*meta);
   if (!pieces)
     throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"), Failure::Kind::internal);
-  const MetaMeshSize size = meta_mesh_size(*meta, pieces->size());
+  const MetaMeshSize size = meta_mesh_size(*meta, *pieces);
   Json& j = run.report()["meta_mesh"];
   j["valid"] = true;
   j["pieces"] = size.pieces;
   j["crossings"] = size.crossings;
   j["vertices_inside_faces"] = size.vertices_inside;
   j["shared_vertices"] = size.shared_vertices;
+  j["kinks"] = size.kinks;
+  j["triangulated_pieces"] = size.triangulated_pieces;
+  j["points_inside_pieces"] = size.points_inside_pieces;
   return std::move(*meta);
 }
 

@@ -35,8 +35,8 @@ Run::Run(std::string tool_name, CommonOptions options)
   report_["tool"] = tool_;
   report_["version"] = ISM_VERSION;
   // Fail before the work, not after it, when the report cannot be written.
-  require_extension(*this, "--report", options_.report_path, {".json"}, "JSON");
   if (!options_.report_path.empty()) check_output(options_.report_path);
+  require_extension(*this, "--report", options_.report_path, {".json"}, "JSON");
 }
 
 void Run::add_input(const std::filesystem::path& path) {

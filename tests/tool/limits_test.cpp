@@ -117,7 +117,7 @@ TEST(Limits, OutputExtensionsAreChecked) {
   EXPECT_EQ(failure_of([&] { require_extension(run, "-o", "out.txt", {".exr"}, "OpenEXR"); }),
             "gim-remesh: out.txt: -o writes OpenEXR; use .exr (not .txt)");
   EXPECT_EQ(failure_of([&] { require_mesh_extension(run, "--mesh", "m"); }),
-            "gim-remesh: m: --mesh writes a mesh; use .obj, .ply, .off, .stl, .drc");
+            "gim-remesh: m: --mesh writes a mesh; use .obj, .ply, .off, .stl, .drc, .glb");
 }
 
 TEST(Limits, TheAddressSpaceIsCappedAboveTheLimit) {

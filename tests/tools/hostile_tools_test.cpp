@@ -106,7 +106,7 @@ TEST(HostileFiles, ParameterBombsAreRefusedBeforeReadingTheMesh) {
       {"semireg", missing + " -o " + obj + " --base-size 5000 --levels 8",
        "semireg: --base-size 5000 at --levels 8", "use --levels"},
       {"semireg", missing + " -o " + (dir / "bomb.exr").string() + " --base-size 50",
-       "semireg: ", "-o writes a mesh; use .obj, .ply, .off, .stl, .drc (not .exr)"},
+       "semireg: ", "-o writes a mesh; use .obj, .ply, .off, .stl, .drc, .glb (not .exr)"},
       {"torus-remesh", missing + " -o " + obj + " --size 4096 --max-memory 2G",
        "torus-remesh: --size 4096x4096 ", "raise --max-memory"},
       {"ism-genmesh", "sphere --faces 40000000 --max-memory 1G -o " + obj,

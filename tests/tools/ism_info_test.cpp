@@ -148,9 +148,18 @@ TEST(Tools, OutputOverTheInputIsRefused) {
   const fs::path mesh = scratch_dir() / "keep.obj";
   ASSERT_EQ(run("ism-genmesh", "sphere --faces 500 -o " + mesh.string()).status, 0);
   const std::string before = slurp(mesh);
-  const Result r = run("ism-info", mesh.string() + " --report " + mesh.string());
+  // An output of a writable kind (a mesh) named as the input.
+  const fs::path image = scratch_dir() / "keep.exr";
+  fs::remove(image);
+  const Result r =
+      run("gim-remesh", mesh.string() + " -o " + image.string() + " --mesh " + mesh.string());
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("refusing to overwrite an input file"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(mesh), before);
+  EXPECT_FALSE(fs::exists(image));
+  // A report named as the input: refused (as not JSON), the input untouched.
+  const Result report = run("ism-info", mesh.string() + " --report " + mesh.string());
+  EXPECT_EQ(report.status, 1);
   EXPECT_EQ(slurp(mesh), before);
 }
 

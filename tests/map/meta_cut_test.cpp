@@ -1,0 +1,151 @@
+// Triangulations of pieces (meta_cut.hpp): every one returned is valid on
+// both sides, and pieces that need points added inside get them.
+#include "map/meta_cut.hpp"
+#include "map/domain_geometry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace ism {
+namespace {
+
+// Every triangle positive on both sides and the triangles' areas summing to
+// each polygon's area: a valid triangulation of both (a locally injective
+// map of a disc whose boundary goes round once).
+void expect_valid(const MetaPiece& piece, const PieceTriangulation& tri) {
+  ASSERT_FALSE(tri.triangles.empty());
+  for (int s = 0; s < 2; ++s) {
+    ASSERT_GE(tri.points[s].size(), piece.corner[s].size());
+    for (std::size_t i = 0; i < piece.corner[s].size(); ++i)
+      EXPECT_EQ(tri.points[s][i], piece.corner[s][i]);
+    double sum = 0;
+    for (const auto& t : tri.triangles) {
+      const double a = orient(tri.points[s][t[0]], tri.points[s][t[1]], tri.points[s][t[2]]);
+      EXPECT_GT(a, 0) << "side " << s;
+      sum += 0.5 * a;
+    }
+    EXPECT_NEAR(sum, polygon_area(piece.corner[s]), 1e-12);
+  }
+}
+
+MetaPiece piece_of(std::vector<Vec2> p, std::vector<Vec2> q) {
+  MetaPiece piece;
+  piece.area = {polygon_area(p), polygon_area(q)};
+  piece.corner = {std::move(p), std::move(q)};
+  return piece;
+}
+
+TEST(TriangulatePiece, ConvexPieceIsAFanOnItsCorners) {
+  const MetaPiece piece =
+      piece_of({{0, 0}, {2, 0}, {2, 1}, {0, 1}}, {{0, 0}, {1, 0}, {1, 1}, {0, 2}});
+  const PieceTriangulation tri = triangulate_piece(piece);
+  expect_valid(piece, tri);
+  EXPECT_FALSE(tri.added);
+  EXPECT_EQ(tri.triangles.size(), 2u);
+}
+
+TEST(TriangulatePiece, CollinearCornersOnBothSidesGetAStar) {
+  // Runs of collinear corners on different edges of each side: no fan works.
+  const MetaPiece piece =
+      piece_of({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}, {{0, 0}, {2, 0}, {2, 1}, {2, 2}, {0, 2}});
+  const PieceTriangulation tri = triangulate_piece(piece);
+  expect_valid(piece, tri);
+}
+
+// Pairs of simple hexagons with no triangulation on their corners valid on
+// both sides (found by a random search): a compatible triangulation needs
+// points inside.
+TEST(TriangulatePiece, PiecesWithNoCompatibleTriangulationOnTheirCornersGetAddedPoints) {
+  const std::vector<std::array<std::vector<Vec2>, 2>> pairs = {{{{{0.741, 0.041},
+                                                                  {-0.081, 1.052},
+                                                                  {-0.533, 0.531},
+                                                                  {0.179, -0.463},
+                                                                  {-0.399, -0.824},
+                                                                  {0.753, -0.566}},
+                                                                 {{0.718, 0.127},
+                                                                  {0.222, 0.062},
+                                                                  {0.559, 0.729},
+                                                                  {-0.88, 0.1},
+                                                                  {-0.178, 0.375},
+                                                                  {0.219, -0.072}}}},
+                                                               {{{{0.047, 0.094},
+                                                                  {0.693, 0.846},
+                                                                  {-0.035, 0.156},
+                                                                  {-0.644, 0.705},
+                                                                  {-0.031, -0.951},
+                                                                  {0.284, -0.003}},
+                                                                 {{0.641, 0.262},
+                                                                  {0.546, 0.428},
+                                                                  {0.532, 1.191},
+                                                                  {-1.042, 0.117},
+                                                                  {-0.53, -1.323},
+                                                                  {0.066, 0.321}}}},
+                                                               {{{{0.56, 0.38},
+                                                                  {-0.281, 0.4},
+                                                                  {-0.071, -0.558},
+                                                                  {0.776, -0.234},
+                                                                  {0.841, -0.186},
+                                                                  {0.429, -0.292}},
+                                                                 {{0.346, -0.224},
+                                                                  {0.136, 0.55},
+                                                                  {-0.365, -1.204},
+                                                                  {-0.268, -0.911},
+                                                                  {-0.19, -0.723},
+                                                                  {0.787, -0.21}}}}};
+  for (const auto& [p, q] : pairs) {
+    const MetaPiece piece = piece_of(p, q);
+    const PieceTriangulation tri = triangulate_piece(piece);
+    expect_valid(piece, tri);
+    EXPECT_TRUE(tri.added);
+    // The same from the other side: sides swapped give the same triangles.
+    const PieceTriangulation swapped = triangulate_piece(piece_of(q, p));
+    expect_valid(piece_of(q, p), swapped);
+  }
+}
+
+// The same where one polygon is not star-shaped (its kernel is empty): no
+// star either, only the overlay of the two sides' triangulations.
+TEST(TriangulatePiece, PiecesWithNoStarGetTheOverlayOfBothTriangulations) {
+  const std::vector<std::array<std::vector<Vec2>, 2>> pairs = {{{{{0.658, 0.157},
+                                                                  {0.66, 0.336},
+                                                                  {0.386, 0.332},
+                                                                  {0.384, 0.455},
+                                                                  {0.011, -0.702},
+                                                                  {0.813, -0.126}},
+                                                                 {{0.324, 0.465},
+                                                                  {0.309, 0.061},
+                                                                  {-0.756, 0.156},
+                                                                  {-0.869, -0.601},
+                                                                  {-0.801, -0.559},
+                                                                  {0.368, -0.548}}}},
+                                                               {{{{0.002, 0.279},
+                                                                  {0.059, 0.698},
+                                                                  {-0.472, -0.196},
+                                                                  {0.258, -0.034},
+                                                                  {-0.177, -0.507},
+                                                                  {0.575, -0.061}},
+                                                                 {{0.722, 0.443},
+                                                                  {0.123, 0.256},
+                                                                  {-0.324, 0.401},
+                                                                  {-0.182, -0.402},
+                                                                  {-0.744, -0.932},
+                                                                  {0.139, -1.202}}}}};
+  for (const auto& [p, q] : pairs) {
+    const MetaPiece piece = piece_of(p, q);
+    const PieceTriangulation tri = triangulate_piece(piece);
+    expect_valid(piece, tri);
+    EXPECT_TRUE(tri.added);
+    EXPECT_TRUE(tri.cdt);
+  }
+}
+
+TEST(TriangulatePiece, PolygonThatIsNotSimpleHasNone) {
+  // A bow tie on one side.
+  const MetaPiece piece =
+      piece_of({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {{0, 0}, {1, 1}, {1, 0}, {0, 1}});
+  EXPECT_TRUE(triangulate_piece(piece).triangles.empty());
+}
+
+}  // namespace
+}  // namespace ism
