@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # ism-batch gim-remesh (129², one map variant: inverse weight 0.1, and the
 # remesh as OBJ; half the work of the defaults) over every closed genus-0
-# model of ../shared/models, and bunny_open.obj, which gim-remesh refuses, in
+# model of ../shared/models, and torus.obj, which gim-remesh refuses (genus 1), in
 # two shards:
 #   BATCH_ENGINE=parallel  (default) GNU parallel, two jobs on this machine;
 #   BATCH_ENGINE=slurm     a job array on a running Slurm (sbatch --wait

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Lists, checks, tabulates and compares ism-batch results (bench/batch.sh).
 
-  batch_results.py list MODELS_DIR        closed genus-0 models of models.json, then bunny_open.obj
+  batch_results.py list MODELS_DIR        closed genus-0 models of models.json, then torus.obj (refused: genus 1)
   batch_results.py check LIST DIR         every listed mesh's line once, outputs only for ok lines,
                                           an error line for the others, nothing partial in DIR
   batch_results.py table DIR              a Markdown table of DIR/results.jsonl
@@ -21,7 +21,7 @@ def read_results(folder):
 def list_models(models_dir):
     models = json.load(open(os.path.join(models_dir, "models.json")))
     closed = [m["file"] for m in models if m["genus"] == 0 and m["boundary_loops"] == 0]
-    for f in closed + ["bunny_open.obj"]:
+    for f in closed + ["torus.obj"]:
         print(os.path.join(os.path.abspath(models_dir), f))
 
 

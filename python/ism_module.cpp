@@ -300,11 +300,12 @@ PYBIND11_MODULE(ism, m) {
   });
 
   const py::object gim_result =
-      named_tuple("GimRemeshResult", {"image", "normals", "vertices", "faces", "report"},
+      named_tuple("GimRemeshResult", {"image", "normals", "vertices", "faces", "report", "alpha"},
                   "gim_remesh's result: image (n, n, 3) float64 surface positions (README, "
                   "'Geometry image layout'; the .exr holds them as float32), normals (n, n, 3) "
-                  "unit normals, vertices (V, 3) and faces (F, 3) of the image as a mesh, report "
-                  "(dict, as --report).");
+                  "unit normals, vertices (V, 3) and faces (F, 3) of the image as a mesh (open "
+                  "where the input is), report (dict, as --report), alpha (n, n) float32: 1 on "
+                  "the input surface, 0 on a cap that closed a hole (None for a closed input).");
   const py::object semireg_result =
       named_tuple("SemiregResult", {"vertices", "faces", "base_vertices", "base_faces", "report"},
                   "semireg's result: the semi-regular remesh (base vertices first), the base used "
@@ -399,8 +400,9 @@ PYBIND11_MODULE(ism, m) {
                    std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
                    std::optional<double> anisotropy_threshold, const py::object& output,
                    const py::object& normals, const py::object& mesh, int draco_bits,
-                   bool glb_draco, const py::object& preview, const py::object& dump_patches,
-                   const py::object& meta_mesh, const py::object& report, bool quiet) {
+                   bool glb_draco, const py::object& preview, const py::object& mask,
+                   const py::object& dump_patches, const py::object& meta_mesh,
+                   const py::object& report, bool quiet) {
         pipeline::GimRemeshOptions o;
         o.input = input_mesh(surface, faces, "gim_remesh");
         o.features = feature_source(features, "features");
@@ -410,6 +412,7 @@ PYBIND11_MODULE(ism, m) {
         o.normals = optional_path(normals);
         o.mesh = optional_path(mesh);
         o.preview = optional_path(preview);
+        o.mask = optional_path(mask);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
         MapArguments{hold_features,     final_sweeps,         inverse_weight, curvature_weight,
@@ -418,21 +421,30 @@ PYBIND11_MODULE(ism, m) {
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
         const py::ssize_t n = r.image.n;
+        py::object alpha = py::none();
+        if (!r.image.alpha.empty()) {
+          py::array_t<float> a({n, n});
+          std::copy(r.image.alpha.begin(), r.image.alpha.end(), a.mutable_data());
+          alpha = a;
+        }
         return gim_result(positions_array(r.image.pixels, {n, n}),
                           positions_array(r.normals.pixels, {n, n}),
                           positions_array(r.remesh.positions, {py::ssize_t(r.remesh.n_vertices())}),
-                          faces_array(r.remesh.triangles), rep);
+                          faces_array(r.remesh.triangles), rep, alpha);
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
       "metric"_a = "right-isosceles", "features"_a = py::none(), "hold_features"_a = false,
       "final_sweeps"_a = 8, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
-      "glb_draco"_a = false, "preview"_a = py::none(), "dump_patches"_a = py::none(),
-      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
+      "glb_draco"_a = false, "preview"_a = py::none(), "mask"_a = py::none(),
+      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
+      "quiet"_a = false,
       "gim_remesh(path or V, F, *, size=257, ...) -> GimRemeshResult(image, normals, vertices, "
       "faces, report)\n\n"
-      "Octahedral geometry image of a closed genus-0 surface, as the gim-remesh tool (same\n"
+      "Octahedral geometry image of a genus-0 surface (holes capped; the output .exr then has\n"
+      "an alpha channel, mask (.png) marks the surface, vertices/faces drop the caps), as the\n"
+      "gim-remesh tool (same\n"
       "options, same defaults: curvature_weight None means the tool's 0.5, inverse_weight None\n"
       "its two map variants). features: a file path, 6 vertex indices or 6 points for\n"
       "+x -x +y -y +z -z (default automatic). output/normals (.exr), mesh (.obj .ply .off .stl\n"

@@ -6,6 +6,13 @@
 
 namespace ism::test {
 
+/// The input checks of a mesh given as a TriangleMesh (as a tool reads it).
+inline MeshCheck check_of(const TriangleMesh& mesh) {
+  PolygonSoup soup{mesh.positions, {}};
+  for (const Triangle& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
+  return prepare_mesh(soup).check;
+}
+
 /// A closed valid surface of the given genus, V - E + F = 2 - 2g, that the
 /// checks had nothing to repair and did not have to turn outward.
 inline void expect_clean_closed_surface(const MeshCheck& c, int genus) {

@@ -200,11 +200,14 @@ ExrLayout check_exr_header(const std::filesystem::path& path) {
 }  // namespace
 
 void write_exr_rgb(const std::filesystem::path& path, int width, int height,
-                   const std::vector<Eigen::Vector3f>& pixels, const ExrAttributes& attributes) {
+                   const std::vector<Eigen::Vector3f>& pixels, const ExrAttributes& attributes,
+                   const std::vector<float>& alpha) {
   check_size(width, height, pixels.size());
+  if (!alpha.empty()) check_size(width, height, alpha.size());
   Imf::Header header(width, height);
   header.compression() = Imf::ZIP_COMPRESSION;
   for (const char* name : kChannels) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  if (!alpha.empty()) header.channels().insert("A", Imf::Channel(Imf::FLOAT));
   for (const auto& [name, value] : attributes) {
     // Header::insert throws Iex exceptions for these; report them as the
     // caller's mistake rather than a file problem.
@@ -217,7 +220,11 @@ void write_exr_rgb(const std::filesystem::path& path, int width, int height,
   }
   try {
     Imf::OutputFile file(path.string().c_str(), header);
-    file.setFrameBuffer(rgb_frame_buffer(pixels.front().data(), header.dataWindow()));
+    Imf::FrameBuffer frame = rgb_frame_buffer(pixels.front().data(), header.dataWindow());
+    if (!alpha.empty())
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, alpha.data(), header.dataWindow(),
+                                         sizeof(float), sizeof(float) * std::size_t(width)));
+    file.setFrameBuffer(frame);
     file.writePixels(height);
   } catch (const std::exception& e) {
     // OpenEXR's messages usually repeat the file name; keep them whole anyway.
@@ -226,7 +233,8 @@ void write_exr_rgb(const std::filesystem::path& path, int width, int height,
 }
 
 std::vector<Eigen::Vector3f> read_exr_rgb(const std::filesystem::path& path, int& width,
-                                          int& height, ExrAttributes* attributes) {
+                                          int& height, ExrAttributes* attributes,
+                                          std::vector<float>* alpha) {
   // Checked up front: OpenEXR's message for a missing file is less direct.
   if (!std::filesystem::exists(path)) throw FileError(path.string() + ": no such file");
   const ExrLayout layout = check_exr_header(path);
@@ -248,7 +256,17 @@ std::vector<Eigen::Vector3f> read_exr_rgb(const std::filesystem::path& path, int
     height = int(layout.height);
     std::vector<Eigen::Vector3f> pixels(static_cast<std::size_t>(width) *
                                         static_cast<std::size_t>(height));
-    file.setFrameBuffer(rgb_frame_buffer(pixels.front().data(), window));
+    Imf::FrameBuffer frame = rgb_frame_buffer(pixels.front().data(), window);
+    const Imf::Channel* a = header.channels().findChannel("A");
+    if (alpha) alpha->clear();
+    if (alpha && a) {
+      if (a->xSampling != 1 || a->ySampling != 1)
+        throw FileError(path.string() + ": OpenEXR channel A is subsampled");
+      alpha->assign(pixels.size(), 0.0f);
+      frame.insert("A", Imf::Slice::Make(Imf::FLOAT, alpha->data(), window, sizeof(float),
+                                         sizeof(float) * std::size_t(width)));
+    }
+    file.setFrameBuffer(frame);
     file.readPixels(window.min.y, window.max.y);
     if (attributes) {
       attributes->clear();
@@ -275,6 +293,17 @@ void write_png_preview(const std::filesystem::path& path, int width, int height,
   const OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   const bool ok = out->open(path.string(), spec) &&
                   out->write_image(OIIO::TypeDesc::UINT8, pixels.front().data()) && out->close();
+  if (!ok) throw FileError(path.string() + ": cannot write PNG: " + out->geterror());
+}
+
+void write_png_grey(const std::filesystem::path& path, int width, int height,
+                    const std::vector<unsigned char>& pixels) {
+  check_size(width, height, pixels.size());
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out) throw FileError(path.string() + ": OpenImageIO has no PNG writer: " + OIIO::geterror());
+  const OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::UINT8);
+  const bool ok = out->open(path.string(), spec) &&
+                  out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close();
   if (!ok) throw FileError(path.string() + ": cannot write PNG: " + out->geterror());
 }
 

@@ -194,7 +194,11 @@ class SurfaceMap {
   /// symmetric stretch (§5.2; efficiency 2 / energy) with the inverse term
   /// weighted by MapOptions::inverse_stretch_weight.
   double energy() const;
-  MapMeasures measures() const;
+  /// The measures over the faces t with counted[t] set (all when empty),
+  /// e.g. the input surface without the caps that closed its holes: each
+  /// one-way stretch normalised by the areas of those faces and of their
+  /// image in M¹.
+  MapMeasures measures(const std::vector<char>& counted = {}) const;
 
   /// The invariants of DESIGN.md §4: positive pieces on both sides, pieces
   /// tiling every face of both meshes, walks consistent from both sides and

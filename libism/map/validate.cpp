@@ -93,11 +93,12 @@ std::optional<std::string> SurfaceMap::validate() const {
   return std::nullopt;
 }
 
-MapMeasures SurfaceMap::measures() const {
+MapMeasures SurfaceMap::measures(const std::vector<char>& counted) const {
   std::vector<StretchPiece> pieces;
   pieces.reserve(faces_.size());
   FaceChart chart;
   for (std::size_t t = 0; t < faces_.size(); ++t) {
+    if (!counted.empty() && !counted[t]) continue;
     if (!face_chart(int(t), chart)) return {};
     // One affine map per M² face: its overlay pieces all share this
     // Jacobian, so the face stands for them with the summed areas.

@@ -1,5 +1,7 @@
 #include "mesh/mesh_check.hpp"
 
+#include "mesh/boundary.hpp"
+
 #include "mesh/union_find.hpp"
 
 #include <algorithm>
@@ -364,6 +366,12 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
     for (std::size_t f = 0; f < nf; ++f)
       if (flip[f] < 0) std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
     c.reoriented_faces = flipped_in_components;
+    try {
+      for (const auto& loop : boundary_loops(mesh))
+        c.loops.push_back({loop.size(), loop_length(mesh, loop)});
+    } catch (const std::invalid_argument&) {
+      c.loops.clear();  // not simple loops: counted above, not listed
+    }
     if (c.components == 1) {
       long twice_genus = 2 - c.euler_characteristic - long(c.boundary_loops);
       if (twice_genus >= 0 && twice_genus % 2 == 0) c.genus = int(twice_genus / 2);
@@ -450,7 +458,8 @@ std::optional<std::string> unmet_requirement(const MeshCheck& check,
                      : " needs one connected, orientable 2-manifold");
   if (needs.closed && !check.closed())
     return plural(check.boundary_loops, "boundary loop", "boundary loops") + ", " + needs.tool +
-           " needs a closed surface";
+           " needs a closed surface" +
+           (needs.closed_advice.empty() ? "" : "; " + needs.closed_advice);
   if (needs.genus && check.genus != needs.genus)
     return "genus " + std::to_string(check.genus.value_or(-1)) + ", " + needs.tool +
            " needs genus " + std::to_string(*needs.genus);

@@ -21,6 +21,13 @@ struct MeshCheck {
   std::size_t vertices = 0, edges = 0, faces = 0;
   std::size_t components = 0;
   std::size_t boundary_loops = 0;
+  /// Each boundary loop (mesh/boundary.hpp order) of a manifold, orientable
+  /// mesh: its vertex count and length. Empty otherwise.
+  struct Loop {
+    std::size_t vertices = 0;
+    double length = 0;
+  };
+  std::vector<Loop> loops;
   long euler_characteristic = 0;
   std::optional<int> genus;  // defined for one orientable 2-manifold component
   bool orientable = true;
@@ -78,8 +85,10 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup);
 
 /// What a tool needs of its input surface.
 struct MeshRequirements {
-  std::string tool;          // named in the message, e.g. "gim-remesh"
-  bool closed = false;       // no boundary
+  std::string tool;     // named in the message, e.g. "gim-remesh"
+  bool closed = false;  // no boundary
+  /// What to do with an open surface when `closed` (appended after "; ").
+  std::string closed_advice;
   std::optional<int> genus;  // exact genus wanted
   /// Fewest vertices the tool's domain needs, and why, e.g. 6 and "one per
   /// octahedron vertex".

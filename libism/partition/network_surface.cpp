@@ -1,5 +1,7 @@
 #include "partition/network_surface.hpp"
 
+#include "mesh/boundary.hpp"
+
 #include "partition/partition.hpp"
 #include "partition/patches.hpp"
 
@@ -11,33 +13,22 @@ namespace ism::partition_detail {
 
 NetworkSurface::NetworkSurface(const TriangleMesh& surface,
                                const std::vector<std::vector<int>>& loops)
-    : positions_(surface.positions),
-      class_(surface.n_vertices(), VertexClass::interior),
-      input_vertices_(surface.n_vertices()) {
+    : class_(surface.n_vertices(), VertexClass::interior), input_vertices_(surface.n_vertices()) {
   const double area = surface_area(surface);
   scale_ = area > 0 ? 1.0 / std::sqrt(area) : 1.0;
-  for (const Vec3& p : surface.positions) mesh_.add_vertex({p.x(), p.y(), p.z()});
-  for (const auto& loop : loops) {
-    Vec3 centre = Vec3::Zero();
-    for (int v : loop) {
-      class_[v] = VertexClass::boundary;
-      centre += surface.positions[v];
-    }
-    centre /= double(std::max<std::size_t>(1, loop.size()));
-    mesh_.add_vertex({centre.x(), centre.y(), centre.z()});
-    positions_.push_back(centre);
-    class_.push_back(VertexClass::centre);
-  }
+  const CappedMesh capped = cap_boundary_loops(surface, loops);
+  positions_ = capped.mesh.positions;
+  for (const auto& loop : loops)
+    for (int v : loop) class_[v] = VertexClass::boundary;
+  class_.resize(positions_.size(), VertexClass::centre);
+  for (const Vec3& p : positions_) mesh_.add_vertex({p.x(), p.y(), p.z()});
   using VH = Mesh::VertexHandle;
-  for (const Triangle& t : surface.triangles)
-    if (!mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2])).is_valid())
-      throw PartitionError("the surface is not a manifold triangle mesh");
-  for (std::size_t l = 0; l < loops.size(); ++l) {
-    const auto& loop = loops[l];
-    const VH c(centre(l));
-    for (std::size_t k = 0; k < loop.size(); ++k)
-      if (!mesh_.add_face(VH(loop[k]), VH(loop[(k + 1) % loop.size()]), c).is_valid())
-        throw PartitionError("boundary loop " + std::to_string(l) + " cannot be capped");
+  for (std::size_t f = 0; f < capped.mesh.n_faces(); ++f) {
+    const Triangle& t = capped.mesh.triangles[f];
+    if (mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2])).is_valid()) continue;
+    if (!capped.is_cap_face(f)) throw PartitionError("the surface is not a manifold triangle mesh");
+    throw PartitionError("boundary loop " + std::to_string(t[2] - int(input_vertices_)) +
+                         " cannot be capped");
   }
   on_network_.assign(mesh_.n_vertices(), 0);
   for (std::size_t l = 0; l < loops.size(); ++l) on_network_[centre(l)] = 1;

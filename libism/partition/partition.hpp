@@ -35,6 +35,11 @@ struct PathNetwork {
   std::vector<std::vector<int>> paths;
   /// Domain face of each surface face.
   std::vector<int> face_patch;
+  /// Face of the traced surface (the tracer's input) each surface face lies
+  /// in: Steiner vertices split faces, the pieces keep their origin. Filled
+  /// by trace_path_network() and the tracers built on it; empty from
+  /// trace_compatible_networks().
+  std::vector<int> face_origin;
 
   std::size_t steiner_vertices() const { return surface.n_vertices() - original_vertices; }
   /// Total 3D length of the paths.

@@ -58,9 +58,13 @@ class NetworkTracer {
     }
     swirl_heuristics_ = options.swirl_heuristics;
     for (const Vec3& p : surface.positions) mesh_.add_vertex({p.x(), p.y(), p.z()});
-    for (const Triangle& t : surface.triangles)
-      if (!mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2])).is_valid())
-        throw PartitionError("the surface is not a manifold triangle mesh");
+    mesh_.add_property(origin_);
+    for (std::size_t f = 0; f < surface.n_faces(); ++f) {
+      const Triangle& t = surface.triangles[f];
+      const auto face = mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2]));
+      if (!face.is_valid()) throw PartitionError("the surface is not a manifold triangle mesh");
+      mesh_.property(origin_, face) = int(f);
+    }
     original_vertices_ = surface.n_vertices();
     on_network_.assign(mesh_.n_vertices(), 0);
     for (int f : features_) on_network_[f] = 1;
@@ -92,6 +96,7 @@ class NetworkTracer {
   PathNetwork result() const;
 
   Mesh mesh_;
+  OpenMesh::FPropHandleT<int> origin_;  // face of the input surface each face lies in
   const TriangleMesh& domain_;
   std::vector<int> features_;
   std::size_t original_vertices_ = 0;
@@ -459,7 +464,7 @@ void NetworkTracer::split_edges_between_network_vertices() {
     const VH a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
     const VH b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
     const VH m = mesh_.add_vertex((mesh_.point(a) + mesh_.point(b)) * 0.5);
-    mesh_.split(e, m);
+    mesh_.split_copy(e, m);  // the halves keep their face's origin
     on_network_.push_back(0);
     if (!torus_points_.empty()) {
       const Eigen::Vector2d& pa = torus_points_[a.idx()];
@@ -562,6 +567,7 @@ PathNetwork NetworkTracer::result() const {
     int k = 0;
     for (VH v : mesh_.fv_range(f)) t[k++] = v.idx();
     net.surface.triangles.push_back(t);
+    net.face_origin.push_back(mesh_.property(origin_, f));
   }
   net.original_vertices = original_vertices_;
   net.features = features_;

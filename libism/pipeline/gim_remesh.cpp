@@ -4,14 +4,19 @@
 #include "io/image_io.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
+#include "mesh/boundary.hpp"
 #include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
 #include "report/report.hpp"
-#include "tool/limits.hpp"
 #include "sample/geometry_image_file.hpp"
+#include "tool/limits.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
+#include <stdexcept>
 
 namespace ism::pipeline {
 namespace {
@@ -52,19 +57,64 @@ std::vector<std::array<unsigned char, 3>> preview_pixels(const GeometryImage& im
   return out;
 }
 
+// Which faces of a map lie on the input surface and which on a cap. Every
+// candidate network cuts the capped surface's faces at Steiner vertices
+// (each at a position of its own), and a map's faces are its network's, so
+// a face is known by its corners' positions whichever network it came from.
+class InputFaces {
+ public:
+  using Key = std::array<double, 9>;
+
+  void add(const PathNetwork& network, const CappedMesh& capped) {
+    if (network.face_origin.size() != network.surface.n_faces())
+      throw std::logic_error("gim-remesh: the network does not record its faces' origins");
+    for (std::size_t f = 0; f < network.surface.n_faces(); ++f)
+      on_input_[key(network.surface.positions, network.surface.triangles[f])] =
+          !capped.is_cap_face(network.face_origin[f]);
+  }
+
+  /// Per face of the map: 1 on the input surface, 0 on a cap (empty when
+  /// there are no caps: every face counts).
+  std::vector<char> of(const SurfaceMap& map) const {
+    if (on_input_.empty()) return {};
+    std::vector<char> out(map.n_faces());
+    for (std::size_t f = 0; f < map.n_faces(); ++f) {
+      const auto it = on_input_.find(key(map.positions(), map.faces()[f]));
+      if (it == on_input_.end())
+        throw std::logic_error("gim-remesh: a face of the map is not a face of its network");
+      out[f] = it->second;
+    }
+    return out;
+  }
+
+ private:
+  static Key key(const std::vector<Vec3>& positions, const Triangle& t) {
+    std::array<Vec3, 3> p{positions[t[0]], positions[t[1]], positions[t[2]]};
+    std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });
+    Key k;
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 3; ++i) k[3 * c + i] = p[c][i];
+    return k;
+  }
+  std::map<Key, char> on_input_;
+};
+
 }  // namespace
 
 GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   const std::string& input = o.input.path;
   if (!o.input.soup) run.add_input(input);
   if (!o.features.entries && !o.features.path.empty()) run.add_input(o.features.path);
-  for (const std::string& out : {o.output, o.normals, o.mesh, o.preview, o.dump_patches})
+  for (const std::string& out : {o.output, o.normals, o.mesh, o.preview, o.mask, o.dump_patches})
     if (!out.empty()) run.check_output(out);
   tool::check_geometry_image(run, o.size);
   for (const std::string& exr : {o.output, o.normals})
     tool::require_extension(run, exr == o.output ? "-o" : "--normals", exr, {".exr"}, "OpenEXR");
   tool::require_mesh_extension(run, "--mesh", o.mesh);
   tool::require_extension(run, "--preview", o.preview, {".png"}, "PNG");
+  tool::require_extension(run, "--mask", o.mask, {".png"}, "PNG");
   tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
   if (o.metric != "right-isosceles" && o.metric != "equilateral")
     throw tool::Failure("gim-remesh: --metric must be right-isosceles or equilateral, got '" +
@@ -73,21 +123,32 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
 
   const TriangleMesh surface =
       run.load_surface(o.input, {.tool = "gim-remesh",
-                                 .closed = true,
                                  .genus = 0,
                                  .min_vertices = 6,
                                  .min_vertices_reason = "one per octahedron vertex"});
+
+  // Holes are closed by caps the map treats as surface (paper §4: a fan
+  // around each loop's centre, here cut by rings); the image samples the
+  // closed surface and its alpha tells which samples fell on a cap.
+  CappedMesh capped;
+  try {
+    capped = cap_boundary_loops(surface, boundary_loops(surface), o.cap);
+  } catch (const std::invalid_argument& e) {
+    throw tool::Failure(input + ": " + e.what());
+  }
+  const bool open = !capped.loops.empty();
+  const TriangleMesh& closed = capped.mesh;
 
   run.stage("partition");
   std::vector<PathNetwork> networks;
   try {
     if (o.features.empty()) {
       networks =
-          trace_octahedral_networks(surface, {.distinguish_poles = o.metric != "equilateral"});
+          trace_octahedral_networks(closed, {.distinguish_poles = o.metric != "equilateral"});
     } else {
       const auto entries = o.features.read();
       const auto features = io::resolve_features(entries, surface, 0, o.features.path);
-      networks.push_back(trace_path_network(surface, domain::octahedron(), features));
+      networks.push_back(trace_path_network(closed, domain::octahedron(), features));
     }
   } catch (const PartitionError& e) {
     throw tool::Failure(input + ": " + e.what());
@@ -100,6 +161,9 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
       o.metric == "equilateral" ? DomainMetric::equilateral : DomainMetric::right_isosceles;
   const DomainGeometry domain(octahedron, octahedron_lengths(octahedron, metric));
   const std::size_t candidates = networks.size();
+  InputFaces input_faces;
+  if (open)
+    for (const PathNetwork& network : networks) input_faces.add(network, capped);
   tool::Progress& progress = run.stage("map");
   const auto [chosen, stats] = tool::run_map_stage(
       run, progress,
@@ -107,12 +171,14 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
        .dump_patches = o.dump_patches,
        .hint = "try --hold-features or other --features"},
       o.map, [&](const MapOptions& options) { return choose_network(networks, domain, options); },
-      [](const SurfaceMap& m) { return m.measures().forward_efficiency; });
+      // Judged on the input surface: what the caps take does not count.
+      [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
   const SurfaceMap& map = *chosen->map;
 
   const MetaMesh meta = tool::validate_map(run, map);
+  const std::vector<char> on_input = input_faces.of(map);
 
   run.stage("sample");
   const MapSampler sampler(map);
@@ -124,6 +190,17 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
     if (!s) throw std::runtime_error("a sample fell outside the map");
     return s->position;
   });
+  if (open) {
+    // The pixel's alpha: 1 on the input surface, 0 on a cap (mirrored
+    // pixels are the same octahedron point, so they agree).
+    const GeometryImage on = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+      const auto s = sampler.surface_point(q.face, q.bary);
+      return Vec3(on_input[s->face] ? 1.0 : 0.0, 0.0, 0.0);
+    });
+    result.image.alpha.resize(on.pixels.size());
+    for (std::size_t p = 0; p < on.pixels.size(); ++p)
+      result.image.alpha[p] = float(on.pixels[p].x());
+  }
   result.normals = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
     const auto s = sampler.surface_point(q.face, q.bary);
     const Triangle& t = map.faces()[s->face];
@@ -140,16 +217,21 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   tool::write_output(run, o.normals, [&](const std::filesystem::path& p) {
     write_geometry_image(result.normals, p);
   });
-  result.remesh = image_to_mesh(image);
+  result.remesh = image_to_surface_mesh(image);
   tool::write_output(run, o.mesh, [&](const std::filesystem::path& p) {
     io::write_mesh_file(result.remesh, p, o.mesh_file);
   });
   tool::write_output(run, o.preview, [&](const std::filesystem::path& p) {
     io::write_png_preview(p, 2 * o.size, o.size, preview_pixels(image, result.normals.pixels));
   });
+  tool::write_output(run, o.mask, [&](const std::filesystem::path& p) {
+    std::vector<unsigned char> mask(image.pixels.size(), 255);
+    for (std::size_t i = 0; i < image.alpha.size(); ++i) mask[i] = image.alpha[i] > 0.5f ? 255 : 0;
+    io::write_png_grey(p, o.size, o.size, mask);
+  });
 
   run.stage("measure");
-  const MapMeasures m = map.measures();
+  const MapMeasures m = map.measures(on_input);
   const SurfaceDistance distance = surface_distance(surface, result.remesh);
   Json& r = run.report();
   r["size"] = o.size;
@@ -163,6 +245,29 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   ij["remesh_vertices"] = result.remesh.n_vertices();
   ij["remesh_faces"] = result.remesh.n_faces();
   r["distance"] = distance_report(distance);
+  if (open) {
+    // What the caps take: of the closed surface's area, and of the image.
+    double cap_area = 0, total_area = 0;
+    for (std::size_t f = 0; f < closed.n_faces(); ++f) {
+      const double a = face_area(closed, f);
+      total_area += a;
+      if (capped.is_cap_face(f)) cap_area += a;
+    }
+    std::size_t cap_pixels = 0;
+    for (float a : image.alpha) cap_pixels += a < 0.5f;
+    Json& b = r["boundary"];
+    b["loops"] = capped.loops.size();
+    b["cap_rings"] = o.cap.rings;
+    b["cap_height"] = o.cap.height;
+    b["cap_area_fraction"] = cap_area / total_area;
+    b["cap_pixel_fraction"] = double(cap_pixels) / double(image.alpha.size());
+    try {
+      b["remesh_loops"] = boundary_loops(result.remesh).size();
+    } catch (const std::invalid_argument& e) {
+      b["remesh_loops"] = Json();
+      b["remesh_boundary_problem"] = e.what();
+    }
+  }
   run.note((o.output.empty() ? input : o.output) + ": " + std::to_string(o.size) + "x" +
            std::to_string(o.size) + " geometry image; map efficiency " +
            std::to_string(m.forward_efficiency) + " (symmetric " +

@@ -1,9 +1,17 @@
 #pragma once
 // gim-remesh's pipeline (paper §6.3): a map from the octahedron, unfolded into
-// the square, to a closed genus-0 surface, optimised for stretch and sampled
-// on an n×n grid. The command-line tool and the Python module both run it.
+// the square, to a genus-0 surface, optimised for stretch and sampled on an
+// n×n grid. The command-line tool and the Python module both run it.
+//
+// A surface with holes (boundary loops) is closed first: each loop capped by
+// a fan around its centre (paper §4), cut by rings, the caps mapped as surface. The image
+// then has an alpha channel (1 on the input surface, 0 on a cap), the remesh
+// drops the grid triangles that touch a cap (open where the input is), and
+// every measure is taken on the input surface alone (stretch weighted by its
+// area, PSNR against it).
 #include "io/draco_io.hpp"
 #include "io/features.hpp"
+#include "mesh/boundary.hpp"
 #include "sample/sample.hpp"
 #include "tool/map_stage.hpp"
 #include "tool/tool.hpp"
@@ -14,15 +22,24 @@ namespace ism::pipeline {
 
 /// gim-remesh's options, with its defaults (README, "Tools").
 struct GimRemeshOptions {
-  tool::InputMesh input;                   // the closed genus-0 surface
+  tool::InputMesh input;                   // a genus-0 surface, closed or not
   io::FeatureSource features;              // 6 vertices for +x -x +y -y +z -z; empty: automatic
   int size = 257;                          // n = 2^k+1
   std::string metric = "right-isosceles";  // or "equilateral"
   // Files written when named (through temporary names): the image (.exr),
   // the normal map (.exr), the remesh (.obj .ply .off .stl .drc .glb), the
-  // PNG preview, the PLY of the patches.
-  std::string output, normals, mesh, preview, dump_patches;
+  // PNG preview, the PNG mask (255 on the input surface, 0 on a cap), the
+  // PLY of the patches.
+  std::string output, normals, mesh, preview, mask, dump_patches;
   io::MeshFileOptions mesh_file;
+  /// How the holes of an open surface are closed (mesh/boundary.hpp): the
+  /// paper's fan cut by 4 flat rings. Against the plain fan, one-way
+  /// efficiency / PSNR (257², docs/results-open-surfaces.md): venus_loop2
+  /// 0.850 / 83.4 -> 0.865 / 83.8 dB, head_3holes 0.872 / 80.8 -> 0.880 /
+  /// 81.1, mannequin_devil 0.836 / 79.3 -> 0.847 / 79.6, camelhead
+  /// 0.778 / 82.4 -> 0.777 / 82.6; a dome (height 0.5) takes more pixels
+  /// (venus_loop2: PSNR 82.2), 8 rings folded venus_loop2 (0.838, 6 folds).
+  CapOptions cap{.rings = 4};
   // Mostly the one-way stretch the image is judged by (bunny, regular
   // octahedron 0.660 -> 0.720), and the symmetric energy without cone
   // relaxation, which flat-faced models need (cube.obj 0.60 -> 0.86). The
@@ -37,9 +54,9 @@ struct GimRemeshOptions {
 };
 
 struct GimRemeshResult {
-  GeometryImage image;    // surface positions (README, "Geometry image layout")
+  GeometryImage image;    // surface positions (README, "Geometry image layout"), alpha if open
   GeometryImage normals;  // unit normals at the same samples
-  TriangleMesh remesh;    // image_to_mesh(image)
+  TriangleMesh remesh;    // image_to_surface_mesh(image)
 };
 
 /// Runs gim-remesh in `run` (stages, progress, report, the files named in

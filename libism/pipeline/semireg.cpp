@@ -8,8 +8,8 @@
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
-#include "tool/limits.hpp"
 #include "sample/semiregular.hpp"
+#include "tool/limits.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -211,7 +211,11 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
                             "--base-size " + std::to_string(o.base_size));
   }
 
-  const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg", .closed = true});
+  const TriangleMesh surface = run.load_surface(
+      o.input, {.tool = "semireg",
+                .closed = true,
+                .closed_advice = "fill its holes first (gim-remesh maps genus-0 surfaces "
+                                 "with holes)"});
   if (o.base_size) tool::check_base_size(run, o.base_size, surface.n_vertices(), input);
 
   // Candidate bases: the user's, or decimations with different priorities

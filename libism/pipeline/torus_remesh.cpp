@@ -9,8 +9,8 @@
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
-#include "tool/limits.hpp"
 #include "sample/geometry_image_file.hpp"
+#include "tool/limits.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -139,6 +139,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const TriangleMesh surface =
       run.load_surface(o.input, {.tool = "torus-remesh",
                                  .closed = true,
+                                 .closed_advice = "fill its holes first (e.g. MeshLab's "
+                                                  "Close Holes)",
                                  .genus = 1,
                                  .min_vertices = 9,
                                  .min_vertices_reason = "one per vertex of the 3x3 torus grid"});

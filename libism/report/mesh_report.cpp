@@ -18,6 +18,14 @@ Json to_json(const MeshCheck& c) {
   j["faces"] = c.faces;
   j["components"] = c.components;
   j["boundary_loops"] = c.boundary_loops;
+  Json loops = Json::array();
+  for (const MeshCheck::Loop& l : c.loops) {
+    Json lj = Json::object();
+    lj["vertices"] = l.vertices;
+    lj["length"] = l.length;
+    loops.push_back(lj);
+  }
+  j["loops"] = loops;
   j["euler_characteristic"] = c.euler_characteristic;
   j["genus"] = c.genus ? Json(*c.genus) : Json();
   j["manifold"] = c.manifold();

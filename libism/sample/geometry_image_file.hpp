@@ -9,10 +9,12 @@
 
 namespace ism {
 
-/// Writes positions as a float RGB EXR tagged "ism:layout" = "octahedral".
+/// Writes positions as a float RGB EXR tagged "ism:layout" = "octahedral",
+/// with the image's alpha as channel A when it has one.
 void write_geometry_image(const GeometryImage& image, const std::filesystem::path& path);
 
-/// Reads a square 2^k+1 float RGB EXR; throws io::FileError otherwise.
+/// Reads a square 2^k+1 float RGB EXR (and its channel A into alpha, if
+/// any); throws io::FileError otherwise.
 GeometryImage read_geometry_image(const std::filesystem::path& path);
 
 /// The mesh an octahedral geometry image file describes (image_to_mesh).

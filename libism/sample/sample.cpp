@@ -216,6 +216,50 @@ TriangleMesh image_to_mesh(const GeometryImage& image) {
   return mesh;
 }
 
+namespace {
+
+// A grid triangle (pixel corners) lies on the input surface: no alpha, or
+// alpha 1 at all three corners.
+bool on_surface(const GeometryImage& image, const std::array<std::array<int, 2>, 3>& t) {
+  if (image.alpha.empty()) return true;
+  for (const auto& c : t)
+    if (image.alpha[image.index(c[0], c[1])] < 0.5f) return false;
+  return true;
+}
+
+}  // namespace
+
+TriangleMesh image_to_surface_mesh(const GeometryImage& image) {
+  TriangleMesh mesh = image_to_mesh(image);
+  if (image.alpha.empty()) return mesh;
+  if (image.alpha.size() != image.pixels.size())
+    throw std::invalid_argument("geometry image with " + std::to_string(image.alpha.size()) +
+                                " alpha values for " + std::to_string(image.pixels.size()) +
+                                " pixels");
+  const int n = image.n;
+  std::vector<Triangle> kept;
+  std::size_t f = 0;
+  for (int row = 0; row + 1 < n; ++row)
+    for (int col = 0; col + 1 < n; ++col)
+      for (const auto& t : cell_triangles(n, row, col)) {
+        if (on_surface(image, t)) kept.push_back(mesh.triangles[f]);
+        ++f;
+      }
+  // Vertices that only cap triangles used go; the others keep their order.
+  std::vector<int> index(mesh.n_vertices(), -1);
+  for (const Triangle& t : kept)
+    for (int v : t) index[v] = 0;
+  TriangleMesh out;
+  for (std::size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0) {
+      index[v] = int(out.positions.size());
+      out.positions.push_back(mesh.positions[v]);
+    }
+  out.triangles.reserve(kept.size());
+  for (const Triangle& t : kept) out.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+  return out;
+}
+
 double image_efficiency(const GeometryImage& image, ImageDomain domain) {
   check_image(image);
   const int n = image.n;
@@ -229,18 +273,19 @@ double image_efficiency(const GeometryImage& image, ImageDomain domain) {
       [&](int row, std::vector<StretchPiece>& pieces) {
         for (int col = 0; col + 1 < n; ++col)
           for (const auto& t : cell_triangles(n, row, col))
-            pieces.push_back(
-                {detail::triangle_lengths(domain_point(t[0][0], t[0][1]),
-                                          domain_point(t[1][0], t[1][1]),
-                                          domain_point(t[2][0], t[2][1])),
-                 detail::triangle_lengths(image.at(t[0][0], t[0][1]), image.at(t[1][0], t[1][1]),
-                                          image.at(t[2][0], t[2][1]))});
+            if (on_surface(image, t))
+              pieces.push_back(
+                  {detail::triangle_lengths(domain_point(t[0][0], t[0][1]),
+                                            domain_point(t[1][0], t[1][1]),
+                                            domain_point(t[2][0], t[2][1])),
+                   detail::triangle_lengths(image.at(t[0][0], t[0][1]), image.at(t[1][0], t[1][1]),
+                                            image.at(t[2][0], t[2][1]))});
       },
       "image_efficiency");
 }
 
 std::size_t flipped_triangles(const GeometryImage& image) {
-  return flipped_faces(image_to_mesh(image));
+  return flipped_faces(image_to_surface_mesh(image));
 }
 
 }  // namespace ism

@@ -82,6 +82,10 @@ std::vector<int> image_vertex_of_pixel(int n);
 struct GeometryImage {
   int n = 0;
   std::vector<Vec3> pixels;  // row-major, n * n
+  /// Empty, or per pixel (row-major) 1 where the sample lies on the input
+  /// surface and 0 where it lies on a cap that closed one of its holes
+  /// (gim-remesh of an open surface; EXR channel A).
+  std::vector<float> alpha;
 
   Vec3& at(int row, int col) { return pixels[index(row, col)]; }
   const Vec3& at(int row, int col) const { return pixels[index(row, col)]; }
@@ -107,6 +111,14 @@ GeometryImage sample_octahedral(int n,
 /// std::invalid_argument for a bad size or pixel count.
 TriangleMesh image_to_mesh(const GeometryImage& image);
 
+/// The remesh of the input surface alone: image_to_mesh() without the grid
+/// triangles that touch a cap (alpha 0 at a corner) and without the vertices
+/// only those used (the others keep their order). The same as
+/// image_to_mesh() for an image without alpha. For an open input it is open
+/// where the input is: the boundary runs along the last pixels on the
+/// surface. Throws as image_to_mesh(), and for an alpha of the wrong size.
+TriangleMesh image_to_surface_mesh(const GeometryImage& image);
+
 /// The domain a grid triangle's stretch is measured from.
 enum class ImageDomain {
   square,      ///< the flat pixel grid: right isosceles triangles
@@ -116,14 +128,15 @@ enum class ImageDomain {
 /// One-way L2 stretch efficiency of the map domain -> image surface over the
 /// grid triangles (ism::one_way_stretch: weights are the 3D triangle areas,
 /// so zero-area triangles weigh nothing but still count in the domain area).
-/// 1 for an isometry up to scale. Lengths only: a fold is not penalised
+/// 1 for an isometry up to scale. With alpha, only the grid triangles of
+/// image_to_surface_mesh() count. Lengths only: a fold is not penalised
 /// (count those with flipped_triangles). Throws std::invalid_argument for a bad
 /// image or one with zero total area.
 double image_efficiency(const GeometryImage& image, ImageDomain domain);
 
 /// Number of grid triangles whose normal has a negative dot product with the
 /// sum of the area-weighted normals of all triangles sharing a vertex with it
-/// (itself included), on the welded mesh of image_to_mesh, so neighbours
+/// (itself included), on the welded mesh of image_to_surface_mesh, so neighbours
 /// across the mirrored boundary count. Zero-area triangles are never flipped.
 std::size_t flipped_triangles(const GeometryImage& image);
 

@@ -218,7 +218,8 @@ std::string tool_figures(const std::string& report_json) {
         if (check.contains(key)) figures["input"][key] = check[key];
     }
   }
-  for (const char* section : {"base", "map", "image", "grid", "remesh", "distance", "meta_mesh"}) {
+  for (const char* section :
+       {"base", "map", "image", "grid", "remesh", "distance", "boundary", "meta_mesh"}) {
     if (!report.contains(section) || !report[section].is_object()) continue;
     for (const auto& [key, value] : report[section].items())
       if ((value.is_number() || value.is_boolean()) && key != "seconds")

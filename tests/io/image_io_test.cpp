@@ -77,6 +77,38 @@ TEST(ExrIo, FloatRoundTripIsBitExactWithAttributes) {
   EXPECT_EQ(io::read_exr_rgb(path, width, height).size(), pixels.size());
 }
 
+TEST(ExrIo, AlphaChannelRoundTripsBitExactAndIsAbsentUnlessWritten) {
+  const int width = 5, height = 3;
+  std::vector<Eigen::Vector3f> pixels;
+  std::vector<float> alpha;
+  for (int i = 0; i < width * height; ++i) {
+    pixels.emplace_back(float(i), -float(i), 0.5f * float(i));
+    alpha.push_back(i % 3 == 0 ? 0.0f : (i % 3 == 1 ? 1.0f : 0.25f));
+  }
+  const fs::path path = scratch("alpha.exr");
+  io::write_exr_rgb(path, width, height, pixels, {}, alpha);
+  int w = 0, h = 0;
+  std::vector<float> back_alpha;
+  const auto back = io::read_exr_rgb(path, w, h, nullptr, &back_alpha);
+  ASSERT_EQ(back_alpha.size(), alpha.size());
+  for (std::size_t i = 0; i < alpha.size(); ++i) {
+    EXPECT_TRUE(same_bits(back_alpha[i], alpha[i])) << i;
+    EXPECT_TRUE(same_bits(back[i][0], pixels[i][0])) << i;
+  }
+  // OpenImageIO sees four channels, the fourth named A.
+  auto in = OIIO::ImageInput::open(path.string());
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().nchannels, 4);
+  EXPECT_EQ(in->spec().channelnames.at(3), "A");
+  in->close();
+  // Without alpha: three channels, and the reader leaves alpha empty.
+  io::write_exr_rgb(path, width, height, pixels);
+  io::read_exr_rgb(path, w, h, nullptr, &back_alpha);
+  EXPECT_TRUE(back_alpha.empty());
+  EXPECT_THROW(io::write_exr_rgb(path, width, height, pixels, {}, std::vector<float>(3, 1.0f)),
+               std::invalid_argument);
+}
+
 TEST(ExrIo, NonSquareKeepsRowMajorTopRowFirst) {
   const int width = 3, height = 5;
   std::vector<Eigen::Vector3f> pixels;

@@ -6,16 +6,14 @@
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
 
+#include "closed_surface_checks.hpp"
+
 #include <gtest/gtest.h>
 
 namespace ism {
 namespace {
 
-MeshCheck check_of(const TriangleMesh& mesh) {
-  PolygonSoup soup{mesh.positions, {}};
-  for (const Triangle& t : mesh.triangles) soup.faces.push_back({t[0], t[1], t[2]});
-  return prepare_mesh(soup).check;
-}
+using test::check_of;
 
 void expect_dual_base(const TriangleMesh& surface, std::size_t sites, int genus) {
   const std::vector<int> vertices = simplify_to(surface, sites).base_vertices;

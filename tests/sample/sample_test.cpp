@@ -5,6 +5,8 @@
 #include "mesh/union_find.hpp"
 #include "metrics/metrics.hpp"
 
+#include "closed_surface_checks.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
@@ -371,6 +373,70 @@ TEST(Sample, FoldedImageHasFlippedTriangles) {
   GeometryImage near = sample_octahedral(17, on_sphere);
   std::swap(near.at(5, 5), near.at(5, 6));
   EXPECT_GT(flipped_triangles(near), 0u);
+}
+
+// A sphere image with a cap: alpha 0 on the pixels whose sample lies within
+// 0.5 of the north pole (the +z end of the sphere: the centre of the image).
+GeometryImage sphere_with_cap(int n) {
+  GeometryImage img = sample_octahedral(n, on_sphere);
+  img.alpha.resize(img.pixels.size());
+  for (std::size_t p = 0; p < img.pixels.size(); ++p)
+    img.alpha[p] = (img.pixels[p] - Vec3(0, 0, 1)).norm() < 0.5 ? 0.0f : 1.0f;
+  return img;
+}
+
+TEST(Sample, SurfaceMeshDropsTheGridTrianglesThatTouchACap) {
+  const int n = 33;
+  const GeometryImage img = sphere_with_cap(n);
+  const TriangleMesh all = image_to_mesh(img), open = image_to_surface_mesh(img);
+  // Every kept triangle is a triangle of the whole mesh whose corners are all
+  // off the cap; the dropped ones touch it.
+  std::set<std::array<Vec3, 3>, bool (*)(const std::array<Vec3, 3>&, const std::array<Vec3, 3>&)>
+      kept([](const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
+        return std::lexicographical_compare(a[0].data(), a[0].data() + 3 * 3, b[0].data(),
+                                            b[0].data() + 3 * 3);
+      });
+  for (const Triangle& t : open.triangles)
+    kept.insert({open.positions[t[0]], open.positions[t[1]], open.positions[t[2]]});
+  std::size_t off_cap = 0;
+  for (const Triangle& t : all.triangles) {
+    bool touches = false;
+    for (int v : t) touches |= (all.positions[v] - Vec3(0, 0, 1)).norm() < 0.5;
+    off_cap += !touches;
+    EXPECT_EQ(kept.count({all.positions[t[0]], all.positions[t[1]], all.positions[t[2]]}),
+              touches ? 0u : 1u);
+  }
+  EXPECT_EQ(open.n_faces(), off_cap);
+  EXPECT_LT(open.n_faces(), all.n_faces());
+  // A disc removed from a sphere: one boundary loop, genus 0, no stray vertex.
+  const MeshCheck c = test::check_of(open);
+  EXPECT_TRUE(c.valid_surface());
+  EXPECT_EQ(c.boundary_loops, 1u);
+  EXPECT_EQ(c.genus, 0);
+  EXPECT_EQ(c.unreferenced_vertices, 0u);
+  // Without alpha: the closed mesh.
+  const GeometryImage closed = sample_octahedral(n, on_sphere);
+  EXPECT_EQ(image_to_surface_mesh(closed).triangles, image_to_mesh(closed).triangles);
+  GeometryImage bad = img;
+  bad.alpha.pop_back();
+  EXPECT_THROW(image_to_surface_mesh(bad), std::invalid_argument);
+}
+
+TEST(Sample, EfficiencyAndFoldsOfAnImageWithAlphaCountTheSurfaceOnly) {
+  GeometryImage img = sphere_with_cap(65);
+  const GeometryImage closed = sample_octahedral(65, on_sphere);
+  // Fold the cap: no effect on the measures of the surface.
+  GeometryImage folded = img;
+  for (std::size_t p = 0; p < folded.pixels.size(); ++p)
+    if (folded.alpha[p] == 0.0f) folded.pixels[p].z() = 2.0 - folded.pixels[p].z();
+  for (ImageDomain d : {ImageDomain::square, ImageDomain::octahedron}) {
+    EXPECT_EQ(image_efficiency(folded, d), image_efficiency(img, d));
+    EXPECT_NE(image_efficiency(img, d), image_efficiency(closed, d));
+  }
+  EXPECT_EQ(flipped_triangles(img), 0u);
+  EXPECT_EQ(flipped_triangles(folded), 0u);
+  folded.alpha.clear();
+  EXPECT_GT(flipped_triangles(folded), 0u);
 }
 
 }  // namespace

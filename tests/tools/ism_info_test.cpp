@@ -1,9 +1,15 @@
 // The command-line tools as a user runs them: exit status, one-line errors,
 // JSON keys, no output file on failure.
+#include "io/io.hpp"
 #include "test_support.hpp"
 #include "tools_support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <map>
+#include <set>
 
 namespace {
 
@@ -72,11 +78,56 @@ TEST(Tools, WrongTopologyIsRefusedWithoutOutput) {
   ISM_REQUIRE_SHARED_MODELS();
   const fs::path output = scratch_dir() / "never.exr";
   fs::remove(output);
-  const fs::path input = ism::test::shared_models_dir() / "bunny_open.obj";
+  const fs::path input = ism::test::shared_models_dir() / "torus.obj";
   const Result r = run("gim-remesh", input.string() + " -o " + output.string());
   EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.err, input.string() + ": 5 boundary loops, gim-remesh needs a closed surface\n");
+  EXPECT_EQ(r.err, input.string() + ": genus 1, gim-remesh needs genus 0\n");
   EXPECT_FALSE(fs::exists(output));
+}
+
+TEST(IsmInfo, EachBoundaryLoopIsListedWithItsVerticesAndLength) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const fs::path input = ism::test::shared_models_dir() / "head_3holes.obj";
+  const Result r = run("ism-info", input.string() + " --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto info = nlohmann::json::parse(r.out);
+  ASSERT_EQ(info["boundary_loops"], 3);
+  ASSERT_EQ(info["loops"].size(), 3u);
+  // Against the loops walked here from the file's faces: the boundary
+  // half-edges (no twin) chained, each loop's vertices and summed length.
+  const ism::PolygonSoup soup = ism::io::read_polygon_soup(input);
+  std::map<int, int> next;
+  std::set<std::pair<int, int>> directed;
+  for (const auto& f : soup.faces)
+    for (std::size_t k = 0; k < f.size(); ++k) directed.insert({f[k], f[(k + 1) % f.size()]});
+  for (const auto& [a, b] : directed)
+    if (!directed.count({b, a})) next[b] = a;
+  std::vector<std::pair<std::size_t, double>> expected, listed;
+  std::set<int> seen;
+  for (const auto& [start, unused] : next) {
+    if (seen.count(start)) continue;
+    std::size_t count = 0;
+    double length = 0;
+    int v = start;
+    do {
+      seen.insert(v);
+      ++count;
+      length += (soup.positions[next[v]] - soup.positions[v]).norm();
+      v = next[v];
+    } while (v != start);
+    expected.push_back({count, length});
+  }
+  for (const auto& loop : info["loops"])
+    listed.push_back({loop["vertices"].get<std::size_t>(), loop["length"].get<double>()});
+  std::sort(expected.begin(), expected.end());
+  std::sort(listed.begin(), listed.end());
+  ASSERT_EQ(listed.size(), expected.size());
+  for (std::size_t l = 0; l < listed.size(); ++l) {
+    EXPECT_EQ(listed[l].first, expected[l].first);
+    EXPECT_NEAR(listed[l].second, expected[l].second, 1e-9 * expected[l].second);
+  }
+  const Result text = run("ism-info", input.string());
+  EXPECT_NE(text.out.find("boundary loop 2: "), std::string::npos) << text.out;
 }
 
 TEST(Tools, GeneratedMeshIsAValidSurfaceAndReportIsWritten) {

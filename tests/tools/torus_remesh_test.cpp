@@ -216,7 +216,9 @@ TEST(TorusRemesh, UnsuitableInputsAreRefusedWithoutOutput) {
   expect_refused(sphere.string(), out, sphere.string() + ": genus 0, torus-remesh needs genus 1");
   expect_refused(genus2.string(), out, genus2.string() + ": genus 2, torus-remesh needs genus 1");
   expect_refused(open.string(), out,
-                 open.string() + ": 1 boundary loop, torus-remesh needs a closed surface");
+                 open.string() +
+                     ": 1 boundary loop, torus-remesh needs a closed surface; fill "
+                     "its holes first (e.g. MeshLab's Close Holes)");
 
   write_lines(features, {"# eight", "0", "1", "2", "3", "4", "5", "6", "7"});
   expect_refused(torus.string() + " --features " + features.string(), out,

@@ -20,6 +20,9 @@ void print_check(const std::string& file, const ism::MeshCheck& c) {
   std::printf("  components %zu, boundary loops %zu, Euler characteristic %ld, genus %s\n",
               c.components, c.boundary_loops, c.euler_characteristic,
               c.genus ? std::to_string(*c.genus).c_str() : "undefined");
+  for (std::size_t l = 0; l < c.loops.size(); ++l)
+    std::printf("  boundary loop %zu: %zu vertices, length %.6g\n", l, c.loops[l].vertices,
+                c.loops[l].length);
   std::printf("  manifold %s, orientable %s, closed %s\n", yes_no(c.manifold()),
               yes_no(c.orientable), yes_no(c.closed()));
   std::printf("  bounding-box diagonal %.6g, area %.6g\n", c.bounding_box_diagonal, c.area);

@@ -4,10 +4,12 @@ import * as THREE from 'three';
 import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
 
 /**
- * Reads an EXR into { rows, cols, layout, pixels }: pixels row-major with
- * row 0 at the top of the image, 3 floats each. layout is the file's
+ * Reads an EXR into { rows, cols, layout, pixels, alpha }: pixels row-major
+ * with row 0 at the top of the image, 3 floats each. layout is the file's
  * ism:layout ('octahedral', 'torus'), or 'octahedral' for an untagged square
- * image of side 2^k+1, else null (shown as an image only).
+ * image of side 2^k+1, else null (shown as an image only). alpha: channel A
+ * in the same order (gim-remesh of an open surface: 1 on the surface, 0 on a
+ * cap), or null when the file has none.
  */
 export function readGeometryImage(buffer) {
   const loader = new EXRLoader().setDataType(THREE.FloatType);
@@ -15,16 +17,20 @@ export function readGeometryImage(buffer) {
   const rows = exr.height, cols = exr.width;
   // EXRLoader stores the bottom row first, RGBA.
   const pixels = new Float32Array(rows * cols * 3);
+  const hasAlpha = (exr.header?.channels ?? []).some((c) => c.name === 'A');
+  const alpha = hasAlpha ? new Float32Array(rows * cols) : null;
   for (let i = 0; i < rows; ++i)
-    for (let j = 0; j < cols; ++j)
-      for (let k = 0; k < 3; ++k)
-        pixels[3 * (i * cols + j) + k] = exr.data[4 * ((rows - 1 - i) * cols + j) + k];
+    for (let j = 0; j < cols; ++j) {
+      const from = 4 * ((rows - 1 - i) * cols + j);
+      for (let k = 0; k < 3; ++k) pixels[3 * (i * cols + j) + k] = exr.data[from + k];
+      if (alpha) alpha[i * cols + j] = exr.data[from + 3];
+    }
   let layout = exr.header?.['ism:layout'] ?? null;
   const n = rows;
   if (!layout && rows === cols && n >= 3 && ((n - 1) & (n - 2)) === 0) layout = 'octahedral';
   if (layout === 'octahedral' && !(rows === cols && n >= 3 && ((n - 1) & (n - 2)) === 0))
     throw new Error(`octahedral image of ${rows}x${cols}: needs n x n with n = 2^k+1`);
-  return { rows, cols, layout, pixels };
+  return { rows, cols, layout, pixels, alpha };
 }
 
 // The canonical pixel of a pixel's mirror orbit on the square's boundary
@@ -43,8 +49,10 @@ function canonicalPixel(n, i, j) {
  * one vertex per pixel orbit, numbered in row-major order of the canonical
  * pixels, (n-1)^2+2 in all; each grid cell split along the diagonal parallel
  * to its quadrant's octahedron edge, counter-clockwise seen from outside.
+ * With alpha, as image_to_surface_mesh(): only the triangles with alpha 1 at
+ * all three corners, and the vertices they use (in the same order).
  */
-export function octahedralMesh({ rows: n, pixels }) {
+export function octahedralMesh({ rows: n, pixels, alpha = null }) {
   const vertex = new Int32Array(n * n);
   const positions = new Float32Array(3 * ((n - 1) * (n - 1) + 2));
   let next = 0;
@@ -62,15 +70,28 @@ export function octahedralMesh({ rows: n, pixels }) {
   const indices = new Uint32Array(6 * (n - 1) * (n - 1));
   let f = 0;
   const put = (...corners) => {
+    if (alpha && corners.some(([i, j]) => alpha[i * n + j] < 0.5)) return;
     for (const [i, j] of corners) indices[f++] = vertex[i * n + j];
   };
   for (let i = 0; i + 1 < n; ++i)
     for (let j = 0; j + 1 < n; ++j) {
       const tl = [i, j], tr = [i, j + 1], bl = [i + 1, j], br = [i + 1, j + 1];
-      if (j >= m === i < m) put(tl, bl, br, tl, br, tr);
-      else put(bl, br, tr, bl, tr, tl);
+      if (j >= m === i < m) put(tl, bl, br), put(tl, br, tr);
+      else put(bl, br, tr), put(bl, tr, tl);
     }
-  return { positions, indices };
+  if (!alpha) return { positions, indices };
+  // Drop the vertices only cap triangles used; the others keep their order.
+  const used = new Int32Array(next).fill(-1);
+  for (let k = 0; k < f; ++k) used[indices[k]] = 0;
+  let kept = 0;
+  const surface = new Float32Array(3 * next);
+  for (let v = 0; v < next; ++v)
+    if (used[v] === 0) {
+      surface.set(positions.subarray(3 * v, 3 * v + 3), 3 * kept);
+      used[v] = kept++;
+    }
+  const faces = indices.slice(0, f).map((v) => used[v]);
+  return { positions: surface.slice(0, 3 * kept), indices: faces };
 }
 
 /**
