@@ -561,7 +561,7 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "read_geometry_image",
-      [](const py::object& path) {
+      [](const py::object& path, bool with_alpha) -> py::object {
         const std::string file = path_of(path);
         GeometryImage image;
         try {
@@ -570,16 +570,27 @@ PYBIND11_MODULE(ism, m) {
           throw tool::reading_failure(file, e);
         }
         // The file's float32 values, exactly.
-        py::array_t<float> out({py::ssize_t(image.n), py::ssize_t(image.n), py::ssize_t(3)});
+        const auto n = py::ssize_t(image.n);
+        py::array_t<float> out({n, n, py::ssize_t(3)});
         float* data = out.mutable_data();
         for (std::size_t i = 0; i < image.pixels.size(); ++i)
           for (int k = 0; k < 3; ++k) data[3 * i + k] = float(image.pixels[i][k]);
-        return out;
+        if (!with_alpha) return std::move(out);
+        py::object alpha = py::none();
+        if (!image.alpha.empty()) {
+          py::array_t<float> a({n, n});
+          std::copy(image.alpha.begin(), image.alpha.end(), a.mutable_data());
+          alpha = a;
+        }
+        return py::make_tuple(out, alpha);
       },
-      "path"_a,
-      "read_geometry_image(path) -> image (n, n, 3) float32\n\n"
+      "path"_a, "alpha"_a = false,
+      "read_geometry_image(path, alpha=False) -> image (n, n, 3) float32\n"
+      "read_geometry_image(path, alpha=True) -> (image, alpha)\n\n"
       "An octahedral geometry image (.exr, n = 2^k+1) as the file stores it: R, G, B = x, y, z,\n"
-      "row 0 at the top (README, 'Geometry image layout').");
+      "row 0 at the top (README, 'Geometry image layout'). alpha: the file's channel A as an\n"
+      "(n, n) float32 array (1 on the input surface, 0 on the caps of its holes, as\n"
+      "GimRemeshResult.alpha), None when the file has no A (a closed surface's image).");
 
   m.def(
       "geometry_image_mesh",

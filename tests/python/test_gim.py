@@ -128,3 +128,26 @@ def test_every_glb_passes_the_khronos_validator(runs, tmp_path, validate_gltf):
     ism.write_mesh(tmp_path / "draco.glb", r.vertices, r.faces, glb_draco=True)
     reports = validate_gltf([out / "py.glb", tmp_path / "plain.glb", tmp_path / "draco.glb"])
     assert [report["errors"] for report in reports] == [0, 0, 0]
+
+
+def test_an_open_surface_keeps_its_alpha_through_the_file(meshes, tmp_path):
+    """A blob with one hole: the image marks the cap with alpha 0, the file's
+    channel A reads back as the same bits; a closed surface's file has no A."""
+    vertices, faces = ism.read_mesh(meshes["blob"])
+    # Remove vertex 0 and its faces: one boundary loop round its ring.
+    kept = faces[~np.any(faces == 0, axis=1)]
+    vertices = vertices[1:]
+    kept = kept - 1
+    exr = tmp_path / "open.exr"
+    r = ism.gim_remesh(vertices, kept, size=SIZE, output=exr, quiet=True)
+    assert r.alpha is not None and r.alpha.shape == (SIZE, SIZE)
+    assert set(np.unique(r.alpha)) == {0.0, 1.0}
+    assert 0 < np.count_nonzero(r.alpha == 0) < SIZE * SIZE // 4
+    image, alpha = ism.read_geometry_image(exr, alpha=True)
+    assert image.shape == (SIZE, SIZE, 3) and alpha.dtype == np.float32
+    assert np.array_equal(alpha.view(np.uint32), r.alpha.astype(np.float32).view(np.uint32))
+    assert np.array_equal(image, ism.read_geometry_image(exr))
+    closed = tmp_path / "closed.exr"
+    ism.gim_remesh(meshes["blob"], size=SIZE, output=closed, quiet=True)
+    _, none = ism.read_geometry_image(closed, alpha=True)
+    assert none is None
