@@ -4,7 +4,7 @@
 // progressive meshes to their one base replayed together, the symmetric
 // stretch optimised on both; validation from both sides and the measures.
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
-//                     [--validate-each-step]
+//                     [--validate-each-step] [--meta-mesh OUT.txt]
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -25,7 +25,7 @@
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   std::vector<std::string> files;
-  std::string pairs_file;
+  std::string pairs_file, meta_file;
   int faces = 1000;
   std::size_t decimate = 0;
   bool each = false;
@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
       pairs_file = argv[++i];
+    else if (std::strcmp(argv[i], "--meta-mesh") == 0 && i + 1 < argc)
+      meta_file = argv[++i];
     else if (std::strcmp(argv[i], "--decimate") == 0 && i + 1 < argc)
       decimate = std::size_t(std::atol(argv[++i]));
     else
@@ -44,7 +46,7 @@ int main(int argc, char** argv) {
   if (!(files.empty() || files.size() == 2)) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
-                 "[--validate-each-step]\n");
+                 "[--validate-each-step] [--meta-mesh OUT.txt]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -115,6 +117,10 @@ int main(int argc, char** argv) {
         "of their corners), %zu points added inside pieces\n",
         size.pieces, size.crossings, size.kinks, size.triangulated_pieces,
         size.points_inside_pieces);
+    if (!meta_file.empty() && !ism::write_meta_mesh(map.meta(), meta_file)) {
+      std::fprintf(stderr, "inter_surface_map: cannot write %s\n", meta_file.c_str());
+      return 1;
+    }
   }
   return problem ? 1 : 0;
 }
