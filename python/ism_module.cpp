@@ -155,6 +155,15 @@ py::array_t<double> positions_array(const std::vector<Vec3>& points,
   return out;
 }
 
+// An octahedral image's channel A as an (n, n) float32 array, None when the
+// image has none (a closed surface's).
+py::object alpha_array(const GeometryImage& image) {
+  if (image.alpha.empty()) return py::none();
+  py::array_t<float> a({py::ssize_t(image.n), py::ssize_t(image.n)});
+  std::copy(image.alpha.begin(), image.alpha.end(), a.mutable_data());
+  return a;
+}
+
 template <std::size_t Corners>
 py::array_t<std::int64_t> faces_array(const std::vector<std::array<int, Corners>>& faces) {
   py::array_t<std::int64_t> out({py::ssize_t(faces.size()), py::ssize_t(Corners)});
@@ -421,16 +430,10 @@ PYBIND11_MODULE(ism, m) {
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
         const py::ssize_t n = r.image.n;
-        py::object alpha = py::none();
-        if (!r.image.alpha.empty()) {
-          py::array_t<float> a({n, n});
-          std::copy(r.image.alpha.begin(), r.image.alpha.end(), a.mutable_data());
-          alpha = a;
-        }
         return gim_result(positions_array(r.image.pixels, {n, n}),
                           positions_array(r.normals.pixels, {n, n}),
                           positions_array(r.remesh.positions, {py::ssize_t(r.remesh.n_vertices())}),
-                          faces_array(r.remesh.triangles), rep, alpha);
+                          faces_array(r.remesh.triangles), rep, alpha_array(r.image));
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
       "metric"_a = "right-isosceles", "features"_a = py::none(), "hold_features"_a = false,
@@ -576,13 +579,7 @@ PYBIND11_MODULE(ism, m) {
         for (std::size_t i = 0; i < image.pixels.size(); ++i)
           for (int k = 0; k < 3; ++k) data[3 * i + k] = float(image.pixels[i][k]);
         if (!with_alpha) return std::move(out);
-        py::object alpha = py::none();
-        if (!image.alpha.empty()) {
-          py::array_t<float> a({n, n});
-          std::copy(image.alpha.begin(), image.alpha.end(), a.mutable_data());
-          alpha = a;
-        }
-        return py::make_tuple(out, alpha);
+        return py::make_tuple(out, alpha_array(image));
       },
       "path"_a, "alpha"_a = false,
       "read_geometry_image(path, alpha=False) -> image (n, n, 3) float32\n"
