@@ -59,6 +59,10 @@ struct MeshFileSize {
   std::uint64_t bytes = 0;
   std::uint64_t vertices = 0;  // positions in the file (before welding)
   std::uint64_t faces = 0;     // polygons in the file (before triangulation)
+  /// A header declares more vertices or faces than the file's bytes can hold
+  /// (the counts above are then that cap): the file is truncated or corrupt,
+  /// and reading it fails with the reason.
+  bool capped = false;
 };
 
 /// The sizes a mesh file declares, without building the mesh: PLY and OFF

@@ -202,16 +202,22 @@ PolygonSoup parse_off(std::string_view bytes, const std::string& name) {
 MeshFileSize peek_off(std::string_view head, std::uint64_t file_bytes, const std::string& name) {
   const std::string_view text = strip_byte_order_mark(head, name);
   const OffHeader h = read_header(text, name);
+  std::uint64_t nv = 0, nf = 0, vertex_cap = 0, face_cap = 0;
   if (h.binary) {
     // Counts follow the keyword line as binary integers.
     BigEndian in(text.substr(h.body), name);
-    const std::uint64_t nv = std::uint32_t(std::max(0, in.i32()));
-    const std::uint64_t nf = std::uint32_t(std::max(0, in.i32()));
-    return {file_bytes, std::min(nv, file_bytes / (4 * std::uint64_t(h.vertex_floats))),
-            std::min(nf, file_bytes / kBinaryFaceBytes)};
+    nv = std::uint32_t(std::max(0, in.i32()));
+    nf = std::uint32_t(std::max(0, in.i32()));
+    vertex_cap = file_bytes / (4 * std::uint64_t(h.vertex_floats));
+    face_cap = file_bytes / kBinaryFaceBytes;
+  } else {
+    nv = std::uint64_t(h.vertices);
+    nf = std::uint64_t(h.faces);
+    vertex_cap = file_bytes / (kTextVertexBytes - 1);
+    face_cap = file_bytes / (kTextFaceBytes - 1);
   }
-  return {file_bytes, std::min(std::uint64_t(h.vertices), file_bytes / (kTextVertexBytes - 1)),
-          std::min(std::uint64_t(h.faces), file_bytes / (kTextFaceBytes - 1))};
+  return {file_bytes, std::min(nv, vertex_cap), std::min(nf, face_cap),
+          nv > vertex_cap || nf > face_cap};
 }
 
 }  // namespace ism::io::detail

@@ -337,8 +337,9 @@ MeshFileSize peek_ply(std::string_view head, std::uint64_t file_bytes, const std
   const Header h = read_header(strip_byte_order_mark(head, name), name);
   const Layout l = layout_of(h, name);
   // Three coordinates take at least three bytes; a face at least one.
-  return {file_bytes, std::min(h.elements[l.vertex].count, file_bytes / 3),
-          std::min(h.elements[l.face].count, file_bytes)};
+  const std::uint64_t nv = h.elements[l.vertex].count, nf = h.elements[l.face].count;
+  return {file_bytes, std::min(nv, file_bytes / 3), std::min(nf, file_bytes),
+          nv > file_bytes / 3 || nf > file_bytes};
 }
 
 }  // namespace ism::io::detail

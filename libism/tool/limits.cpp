@@ -220,22 +220,23 @@ void check_base_size(const Run& run, std::size_t base_size, std::uint64_t surfac
                      const std::string& surface_file) {
   if (base_size < surface_vertices) return;
   const std::string advice =
-      surface_vertices > 4
-          ? "use --base-size " + std::to_string(surface_vertices - 1) + " or less"
-          : "a base has at least 4 vertices, so this surface is too small for one";
+      surface_vertices > 4 ? "use --base-size " + std::to_string(surface_vertices - 1) + " or less"
+                           : "a base has at least 4 vertices, so this surface is too small for one";
   throw Failure(run.tool_name() + ": --base-size " + std::to_string(base_size) + " is not below " +
                 surface_file + "'s " + std::to_string(surface_vertices) +
                 " vertices; a base decimates the surface (" + advice + ")");
 }
 
 void check_base_size(const Run& run, std::size_t base_size, const std::string& surface_file) {
-  std::uint64_t vertices = 0;
+  io::MeshFileSize size;
   try {
-    vertices = io::peek_mesh_size(surface_file).vertices;
+    size = io::peek_mesh_size(surface_file);
   } catch (const io::FileError&) {
     return;
   }
-  check_base_size(run, base_size, vertices, surface_file);
+  // A corrupt header or a file without vertex lines: reading it says why.
+  if (size.capped || size.vertices == 0) return;
+  check_base_size(run, base_size, size.vertices, surface_file);
 }
 
 void check_torus_grid(const Run& run, int columns, int rows) {

@@ -69,8 +69,9 @@ void check_semiregular(const Run& run, std::size_t base_faces, int levels,
 /// the welded count after).
 void check_base_size(const Run& run, std::size_t base_size, std::uint64_t surface_vertices,
                      const std::string& surface_file);
-/// The same before reading, against the vertices the file declares (nothing
-/// when the file cannot be peeked: reading it will say why).
+/// The same before reading, against the vertices the file declares; nothing
+/// when the file cannot be peeked, declares more than it holds or has no
+/// vertex lines (reading it will say why).
 void check_base_size(const Run& run, std::size_t base_size, const std::string& surface_file);
 
 /// torus-remesh: a columns x rows grid, its triangles, image and measures.

@@ -178,6 +178,7 @@ TEST(HostileInput, FuzzSeedsReadBackAsTheirMeshes) {
       const PolygonSoup soup = io::read_polygon_soup(path);
       EXPECT_LE(soup.positions.size(), declared.vertices);
       EXPECT_LE(soup.faces.size(), declared.faces);
+      EXPECT_FALSE(declared.capped);
       const MeshCheck c = prepare_mesh(soup).check;
       EXPECT_TRUE(c.valid_surface());
       EXPECT_EQ(c.genus, 0);
@@ -197,11 +198,13 @@ TEST(HostileInput, DeclaredSizesOfBombsAreBoundedByTheFile) {
   // peek_mesh_size caps a header's claim by what the file's bytes can hold.
   const io::MeshFileSize off = io::peek_mesh_size(test::hostile_dir() / "off_2e9_vertices.off");
   EXPECT_LE(off.vertices, off.bytes);
+  EXPECT_TRUE(off.capped);
   const io::MeshFileSize stl = io::peek_mesh_size(test::hostile_dir() / "stl_count_bomb.stl");
   EXPECT_LE(stl.faces, stl.bytes / 40);
   const io::MeshFileSize ply =
       io::peek_mesh_size(test::hostile_dir() / "ply_vertex_count_bomb.ply");
   EXPECT_LE(ply.vertices, ply.bytes);
+  EXPECT_TRUE(ply.capped);
 }
 
 }  // namespace

@@ -138,6 +138,26 @@ TEST(HostileFiles, BaseSizeAtOrAboveTheSurfaceIsRefusedBeforeWork) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+TEST(HostileFiles, CorruptCountsGetTheReadersLineNotABaseSizeRefusal) {
+  // The peek caps a declared count at what the file's bytes can hold; a
+  // capped count is no vertex count to compare --base-size with, so semireg
+  // answers as the reader does (ism-info's line), not "3 vertices".
+  for (const char* name :
+       {"off_2e9_vertices.off", "off_binary_truncated.off", "ply_vertex_count_bomb.ply",
+        "obj_utf16_bom.obj", "stl_count_bomb.stl"}) {
+    SCOPED_TRACE(name);
+    const fs::path input = ism::test::hostile_dir() / name;
+    const fs::path out = scratch_dir("hostile") / "corrupt.obj";
+    fs::remove(out);
+    const auto info = run_tool("ism-info", input.string());
+    ASSERT_EQ(info.status, 1) << info.err;
+    const auto r = run_tool("semireg", input.string() + " --base-size 4 -o " + out.string());
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.err, info.err);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
 TEST(HostileFiles, RunningOutOfMemoryIsOneLine) {
   // An address space too small for what is asked (ulimit, below the
   // estimate's limit): std::bad_alloc deep inside ends in one line naming
