@@ -90,8 +90,14 @@ int main(int argc, char** argv) {
   try {
     stats = ism::refine_surfaces(map, options);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s\n",
-                 map.n_faces(0), map.n_faces(1), e.what());
+    // A split that cannot be placed is undone: the map is the one before it.
+    const auto problem = map.validate();
+    std::fprintf(stderr,
+                 "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s; the map there: "
+                 "%s, symmetric efficiency %.4f\n",
+                 map.n_faces(0), map.n_faces(1), e.what(),
+                 problem ? problem->c_str() : "valid from both sides",
+                 problem ? 0.0 : map.measures().symmetric_efficiency);
     return 1;
   }
   lap("refine");
@@ -107,9 +113,9 @@ int main(int argc, char** argv) {
       m.backward_efficiency);
   std::printf(
       "splits %zu, sweeps %zu + %zu final; optimisations %zu (moves %zu; charts: one face %zu, "
-      "developed %zu, general %zu; refused by the check %zu)\n",
+      "developed %zu, general %zu; refused by the check %zu); splits retried %zu, in place %zu\n",
       stats.splits, stats.sweeps, stats.final_sweeps, st.optimizations, st.moves, st.fast_path,
-      st.developed, st.general, st.rejected);
+      st.developed, st.general, st.rejected, st.split_retries, st.splits_in_place);
   if (!problem) {
     const ism::MetaMeshSize size = ism::meta_mesh_size(map.meta());
     std::printf(

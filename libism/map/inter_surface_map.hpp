@@ -72,9 +72,12 @@ struct MapOperationStats {
   std::size_t rejected = 0;       // moves refused by the transaction's check
   std::size_t splits = 0;
   std::size_t splits_in_place = 0;  // splits that needed the in-place fallback
+  std::size_t split_retries = 0;    // splits undone, their neighbourhood moved, tried again
 };
 
 class InterSurfaceMap {
+  friend struct InterSurfaceMapTestAccess;  // tests: the split's undo, the index
+
  public:
   /// The trivial map between the two base meshes (same connectivity, base
   /// vertex i of one on base vertex i of the other, no crossing). Throws
@@ -95,9 +98,13 @@ class InterSurfaceMap {
 
   /// Applies the next vertex split of a side: the new vertex and the split
   /// vertex are placed inside the old one-ring. Returns the new vertex, or
-  /// -1 when the side is fully refined. Throws std::runtime_error if no
-  /// valid placement is found (never expected).
+  /// -1 when the side is fully refined. A split whose new vertex finds no
+  /// valid place is undone (the map exactly as before), the other side's
+  /// vertices in and on the ring, the split vertex and its neighbours are
+  /// optimised, and the split tried again; after kSplitRetries such rounds
+  /// it throws std::runtime_error, the map still valid at the split before.
   int split_next(int side);
+  static constexpr int kSplitRetries = 3;
 
   /// Moves vertex v of `side` over the other side to lower the energy
   /// (line searches inside the kernel of its one-ring in a chart); kept
@@ -123,6 +130,31 @@ class InterSurfaceMap {
   struct Layout;
   struct Edit;
   struct Proposal;
+  /// What a split's connectivity change overwrites (to undo it).
+  struct SplitUndo {
+    struct VertexLists {
+      int vertex;
+      std::vector<int> edges, faces;
+    };
+    struct FaceRecord {
+      int face;
+      Triangle corners;
+      FaceLengths lengths;
+      std::array<int, 3> edges;
+    };
+    struct EdgeRecord {
+      int edge;
+      std::array<int, 2> ends, faces;
+      std::vector<MetaCrossing> crossings;
+    };
+    std::size_t n_edges = 0, n_faces = 0;
+    double area = 0;
+    int vt = -1, vs = -1;
+    std::vector<VertexLists> vertices;
+    std::vector<FaceRecord> faces;
+    std::vector<EdgeRecord> edges;
+    std::vector<std::pair<int, std::vector<MetaCrossing>>> other_lists;
+  };
 
   /// The chart of v's one-ring (false if the map there cannot be
   /// developed, which leaves v where it is).
@@ -155,6 +187,12 @@ class InterSurfaceMap {
   void set_location(int side, int v, const MetaLocation& loc, Edit* edit);
   void set_breaks(int side, int e, std::vector<MetaCrossing> list, Edit* edit);
   void rollback(Edit& edit);
+  /// One attempt at the next split of side s: the new vertex, or -1 with
+  /// the split undone. With `place` false the connectivity change is
+  /// undone at once (for tests of the undo).
+  int try_split(int side, bool place = true);
+  SplitUndo split_undo(int side, const Chart& chart, const VertexSplit& split) const;
+  void restore(int side, const SplitUndo& undo);
   FaceLengths face_lengths(int side, const Triangle& t) const;
   double face_area(int side, int f) const;
   std::vector<int> ring_faces(int side, int v) const;

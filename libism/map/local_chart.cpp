@@ -1185,8 +1185,7 @@ int InterSurfaceMap::add_edge(int s, int u, int v) {
   return e;
 }
 
-int InterSurfaceMap::split_next(int s) {
-  if (next_split_[s] >= input_[s].splits.size()) return -1;
+int InterSurfaceMap::try_split(int s, bool place) {
   const VertexSplit& sp = input_[s].splits[next_split_[s]];
   const std::string where = std::string(s == 0 ? "M¹" : "M²") + " split " +
                             std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
@@ -1205,6 +1204,7 @@ int InterSurfaceMap::split_next(int s) {
   MetaSide& S = meta_.side[s];
   MetaSideIndex& IS = index_[s];
   const int vt = sp.vt, vs = sp.vs;
+  const SplitUndo undo = split_undo(s, chart, sp);
   for (std::size_t i = 1; i < last; ++i) {
     // Edge (vt, w) becomes (vs, w): same records, renamed.
     const int e = chart.spoke[i], w = chart.ring[i];
@@ -1262,6 +1262,10 @@ int InterSurfaceMap::split_next(int s) {
   ++next_split_[s];
   ++stats_.splits;
   pinned_[s][vs] = 0;
+  if (!place) {
+    restore(s, undo);
+    return -1;
+  }
 
   // Placement: vt stays, vs in the middle of the kernel of its new ring.
   Layout layout;
@@ -1321,8 +1325,110 @@ int InterSurfaceMap::split_next(int s) {
       return vs;
     }
   }
-  throw std::runtime_error(where + ": no valid placement of the new vertex (" +
-                           std::to_string(chart_failure_) + ")");
+  restore(s, undo);
+  return -1;
+}
+
+InterSurfaceMap::SplitUndo InterSurfaceMap::split_undo(int s, const Chart& chart,
+                                                       const VertexSplit& sp) const {
+  const MetaSide& S = meta_.side[s];
+  const MetaSideIndex& IS = index_[s];
+  SplitUndo u;
+  u.n_edges = S.edges.size();
+  u.n_faces = S.faces.size();
+  u.area = area_[s];
+  u.vt = sp.vt, u.vs = sp.vs;
+  for (int x : {sp.vt, sp.vs, sp.vl, sp.vr})
+    u.vertices.push_back({x, IS.vertex_edges[x], IS.vertex_faces[x]});
+  std::vector<int> edges;
+  for (int f : chart.faces) {
+    u.faces.push_back({f, S.faces[f], S.lengths[f], S.face_edges[f]});
+    for (int e : S.face_edges[f]) edges.push_back(e);
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<int> others;
+  for (int e : edges) {
+    u.edges.push_back({e, S.edges[e], IS.edge_faces[e], S.crossings[e]});
+    for (const MetaCrossing& c : S.crossings[e])
+      if (!c.is_kink()) others.push_back(c.edge);
+  }
+  std::sort(others.begin(), others.end());
+  others.erase(std::unique(others.begin(), others.end()), others.end());
+  for (int g : others) u.other_lists.push_back({g, meta_.side[1 - s].crossings[g]});
+  return u;
+}
+
+void InterSurfaceMap::restore(int s, const SplitUndo& u) {
+  MetaSide& S = meta_.side[s];
+  MetaSideIndex& IS = index_[s];
+  // Keys of the edges as the split named them, then as they were.
+  for (std::size_t e = 0; e < S.edges.size(); ++e)
+    if (e >= u.n_edges) IS.edge_of.erase(undirected_edge_key(S.edges[e][0], S.edges[e][1]));
+  for (const auto& r : u.edges) {
+    IS.edge_of.erase(undirected_edge_key(S.edges[r.edge][0], S.edges[r.edge][1]));
+  }
+  for (const auto& r : u.edges) {
+    S.edges[r.edge] = r.ends;
+    IS.edge_faces[r.edge] = r.faces;
+    S.crossings[r.edge] = r.crossings;
+    IS.edge_of[undirected_edge_key(r.ends[0], r.ends[1])] = r.edge;
+  }
+  for (const auto& [g, list] : u.other_lists) meta_.side[1 - s].crossings[g] = list;
+  S.edges.resize(u.n_edges);
+  S.crossings.resize(u.n_edges);
+  IS.edge_faces.resize(u.n_edges);
+  for (const auto& r : u.faces) {
+    S.faces[r.face] = r.corners;
+    S.lengths[r.face] = r.lengths;
+    S.face_edges[r.face] = r.edges;
+  }
+  S.faces.resize(u.n_faces);
+  S.lengths.resize(u.n_faces);
+  S.face_edges.resize(u.n_faces);
+  IS.residents.resize(u.n_faces);
+  for (const auto& r : u.vertices) {
+    IS.vertex_edges[r.vertex] = r.edges;
+    IS.vertex_faces[r.vertex] = r.faces;
+  }
+  area_[s] = u.area;
+  --active_[s];
+  --next_split_[s];
+  --stats_.splits;
+}
+
+int InterSurfaceMap::split_next(int s) {
+  if (next_split_[s] >= input_[s].splits.size()) return -1;
+  for (int attempt = 0;; ++attempt) {
+    const int vs = try_split(s);
+    if (vs >= 0) return vs;
+    const VertexSplit& sp = input_[s].splits[next_split_[s]];
+    if (attempt == kSplitRetries)
+      throw std::runtime_error(
+          std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
+          " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
+          "): no valid placement of the new vertex after " + std::to_string(kSplitRetries) +
+          " retries (" + std::to_string(chart_failure_) + ")");
+    // The map is as before the split. Move what makes vt's ring hard to
+    // chart: the other side's vertices inside or on the ring, then vt and
+    // its neighbours (each move kept only if valid and lower in energy),
+    // and try again.
+    ++stats_.split_retries;
+    std::vector<int> mine = neighbours(s, sp.vt), theirs;
+    mine.push_back(sp.vt);
+    for (int f : index_[s].vertex_faces[sp.vt])
+      for (int x : index_[s].residents[f]) theirs.push_back(x);
+    for (std::size_t x = 0; x < meta_.side[1 - s].n_vertices(); ++x) {
+      const MetaLocation& loc = meta_.side[1 - s].location[x];
+      if (loc.face < 0 && loc.vertex >= 0 &&
+          std::find(mine.begin(), mine.end(), loc.vertex) != mine.end())
+        theirs.push_back(int(x));
+    }
+    for (int x : theirs)
+      if (is_active(1 - s, x)) optimize_vertex(1 - s, x);
+    for (int v : mine)
+      if (is_active(s, v)) optimize_vertex(s, v);
+  }
 }
 
 }  // namespace ism

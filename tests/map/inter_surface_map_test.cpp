@@ -19,6 +19,13 @@
 #include <random>
 
 namespace ism {
+
+// The split's undo, reached from tests only.
+struct InterSurfaceMapTestAccess {
+  static int split_and_undo(InterSurfaceMap& map, int side) { return map.try_split(side, false); }
+  static const MetaIndex& index(const InterSurfaceMap& map) { return map.index_; }
+};
+
 namespace {
 
 /// A progressive mesh of a genus-0 surface down to the octahedron.
@@ -216,6 +223,65 @@ TEST(InterSurfaceMap, MapWithKinksReadsBackFromItsFile) {
   EXPECT_NE(refused(with_kink("k 0 0 0 0.5 0 0.2 0.3 0.5")).find(line_no + "a kink of no edge"),
             std::string::npos);
   std::filesystem::remove(path);
+}
+
+bool same_side(const MetaSide& a, const MetaSide& b) {
+  auto same_location = [](const MetaLocation& x, const MetaLocation& y) {
+    return x.vertex == y.vertex && x.face == y.face && x.bary == y.bary;
+  };
+  auto same_crossing = [](const MetaCrossing& x, const MetaCrossing& y) {
+    return x.edge == y.edge && x.here == y.here && x.there == y.there && x.face == y.face &&
+           x.bary == y.bary;
+  };
+  return a.faces == b.faces && a.lengths == b.lengths && a.edges == b.edges &&
+         a.face_edges == b.face_edges && a.positions == b.positions &&
+         std::equal(a.location.begin(), a.location.end(), b.location.begin(), b.location.end(),
+                    same_location) &&
+         std::equal(a.crossings.begin(), a.crossings.end(), b.crossings.begin(), b.crossings.end(),
+                    [&](const auto& p, const auto& q) {
+                      return std::equal(p.begin(), p.end(), q.begin(), q.end(), same_crossing);
+                    });
+}
+
+bool same_index(const MetaSideIndex& a, const MetaSideIndex& b) {
+  return a.edge_faces == b.edge_faces && a.vertex_edges == b.vertex_edges &&
+         a.vertex_faces == b.vertex_faces && a.residents == b.residents && a.edge_of == b.edge_of;
+}
+
+TEST(InterSurfaceMap, AnUndoneSplitLeavesTheMapExactlyAsItWas) {
+  // Before every split of both sides' refinement: the split's connectivity
+  // change made and undone (what split_next does when the new vertex finds
+  // no place) gives back the same meta-mesh, index, counts and energy.
+  const TriangleMesh a = shapes::sphere(300), b = shapes::blob(400, 3);
+  const ProgressiveMesh pa = octahedral_pm(a), pb = octahedral_pm(b);
+  InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+  std::size_t undone = 0;
+  for (int step = 0;; ++step) {
+    const int side = step % 2 == 0 && map.splits_applied(0) < map.splits_total(0) ? 0 : 1;
+    if (map.splits_applied(side) >= map.splits_total(side)) break;
+    const MetaMesh meta = map.meta();
+    const MetaIndex index = InterSurfaceMapTestAccess::index(map);
+    const std::size_t applied = map.splits_applied(side), active = map.n_vertices(side);
+    const double area = map.area(side), energy = map.energy();
+    ASSERT_EQ(InterSurfaceMapTestAccess::split_and_undo(map, side), -1);
+    ++undone;
+    for (int s = 0; s < 2; ++s) {
+      ASSERT_TRUE(same_side(map.meta().side[s], meta.side[s])) << "step " << step << " side " << s;
+      ASSERT_TRUE(same_index(InterSurfaceMapTestAccess::index(map)[s], index[s]))
+          << "step " << step << " side " << s;
+    }
+    ASSERT_EQ(map.splits_applied(side), applied);
+    ASSERT_EQ(map.n_vertices(side), active);
+    ASSERT_EQ(map.area(side), area);
+    ASSERT_EQ(map.energy(), energy);
+    const int vs = map.split_next(side);
+    ASSERT_GE(vs, 0);
+    for (int v : map.neighbours(side, vs)) map.optimize_vertex(side, v);
+    map.optimize_vertex(side, vs);
+  }
+  EXPECT_EQ(undone, map.splits_total(0) + map.splits_total(1));
+  EXPECT_GT(undone, 100u);
+  EXPECT_FALSE(map.validate());
 }
 
 TEST(InterSurfaceMap, BothSidesRefineSphereAndBlob) {
