@@ -86,6 +86,14 @@ int main(int argc, char** argv) {
   ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
+  int shown = -5;  // progress on stderr, every 5 % of the splits
+  options.progress = [&](double done) {
+    const int percent = int(done * 100);
+    if (percent / 5 == shown / 5) return;
+    shown = percent;
+    std::fprintf(stderr, "refine %3d %% (A %zu / B %zu faces)\n", percent, map.n_faces(0),
+                 map.n_faces(1));
+  };
   ism::SurfaceRefineStats stats;
   try {
     stats = ism::refine_surfaces(map, options);
