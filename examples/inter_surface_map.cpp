@@ -102,10 +102,12 @@ int main(int argc, char** argv) {
     const auto problem = map.validate();
     std::fprintf(stderr,
                  "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s; the map there: "
-                 "%s, symmetric efficiency %.3g; splits retried %zu, in place %zu\n",
+                 "%s, symmetric efficiency %.3g (energy %.3g, measures %s); splits retried %zu, "
+                 "in place %zu\n",
                  map.n_faces(0), map.n_faces(1), e.what(),
                  problem ? problem->c_str() : "valid from both sides",
-                 problem ? 0.0 : map.measures().symmetric_efficiency, map.stats().split_retries,
+                 problem ? 0.0 : map.measures().symmetric_efficiency, map.energy(),
+                 ism::measures(map.meta()) ? "computed" : "failed", map.stats().split_retries,
                  map.stats().splits_in_place);
     return 1;
   }
