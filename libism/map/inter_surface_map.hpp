@@ -142,14 +142,13 @@ class InterSurfaceMap {
       FaceLengths lengths;
       std::array<int, 3> edges;
     };
-    struct EdgeRecord {
+    struct EdgeRecord {  // a spoke of the split vertex
       int edge;
       std::array<int, 2> ends, faces;
-      std::vector<MetaCrossing> crossings;
+      std::vector<MetaCrossing> crossings;  // only where the split reverses them
     };
     std::size_t n_edges = 0, n_faces = 0;
     double area = 0;
-    int vt = -1, vs = -1;
     std::vector<VertexLists> vertices;
     std::vector<FaceRecord> faces;
     std::vector<EdgeRecord> edges;

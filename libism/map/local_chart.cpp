@@ -1331,27 +1331,28 @@ int InterSurfaceMap::try_split(int s, bool place) {
 
 InterSurfaceMap::SplitUndo InterSurfaceMap::split_undo(int s, const Chart& chart,
                                                        const VertexSplit& sp) const {
+  // The connectivity change renames vt's spokes to vs (reversing the
+  // crossings of those whose ends swap order), adds three edges and two
+  // faces, and rewrites the ring's faces and the four vertices' lists.
   const MetaSide& S = meta_.side[s];
   const MetaSideIndex& IS = index_[s];
   SplitUndo u;
   u.n_edges = S.edges.size();
   u.n_faces = S.faces.size();
   u.area = area_[s];
-  u.vt = sp.vt, u.vs = sp.vs;
   for (int x : {sp.vt, sp.vs, sp.vl, sp.vr})
     u.vertices.push_back({x, IS.vertex_edges[x], IS.vertex_faces[x]});
-  std::vector<int> edges;
-  for (int f : chart.faces) {
-    u.faces.push_back({f, S.faces[f], S.lengths[f], S.face_edges[f]});
-    for (int e : S.face_edges[f]) edges.push_back(e);
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (int f : chart.faces) u.faces.push_back({f, S.faces[f], S.lengths[f], S.face_edges[f]});
   std::vector<int> others;
-  for (int e : edges) {
-    u.edges.push_back({e, S.edges[e], IS.edge_faces[e], S.crossings[e]});
-    for (const MetaCrossing& c : S.crossings[e])
-      if (!c.is_kink()) others.push_back(c.edge);
+  for (std::size_t i = 0; i < chart.spoke.size(); ++i) {
+    const int e = chart.spoke[i], w = chart.ring[i];
+    SplitUndo::EdgeRecord r{e, S.edges[e], IS.edge_faces[e], {}};
+    if ((sp.vt < w) != (sp.vs < w)) {  // reversed if renamed: keep its crossings
+      r.crossings = S.crossings[e];
+      for (const MetaCrossing& c : r.crossings)
+        if (!c.is_kink()) others.push_back(c.edge);
+    }
+    u.edges.push_back(std::move(r));
   }
   std::sort(others.begin(), others.end());
   others.erase(std::unique(others.begin(), others.end()), others.end());
@@ -1363,15 +1364,14 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
   MetaSide& S = meta_.side[s];
   MetaSideIndex& IS = index_[s];
   // Keys of the edges as the split named them, then as they were.
-  for (std::size_t e = 0; e < S.edges.size(); ++e)
-    if (e >= u.n_edges) IS.edge_of.erase(undirected_edge_key(S.edges[e][0], S.edges[e][1]));
-  for (const auto& r : u.edges) {
+  for (std::size_t e = u.n_edges; e < S.edges.size(); ++e)
+    IS.edge_of.erase(undirected_edge_key(S.edges[e][0], S.edges[e][1]));
+  for (const auto& r : u.edges)
     IS.edge_of.erase(undirected_edge_key(S.edges[r.edge][0], S.edges[r.edge][1]));
-  }
   for (const auto& r : u.edges) {
     S.edges[r.edge] = r.ends;
     IS.edge_faces[r.edge] = r.faces;
-    S.crossings[r.edge] = r.crossings;
+    if (!r.crossings.empty()) S.crossings[r.edge] = r.crossings;
     IS.edge_of[undirected_edge_key(r.ends[0], r.ends[1])] = r.edge;
   }
   for (const auto& [g, list] : u.other_lists) meta_.side[1 - s].crossings[g] = list;
