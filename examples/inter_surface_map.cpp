@@ -4,7 +4,9 @@
 // progressive meshes to their one base replayed together, the symmetric
 // stretch optimised on both; validation from both sides and the measures.
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
-//                     [--validate-each-step] [--meta-mesh OUT.txt]
+//                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
+// --trace-energy computes the energy after every step and prints the steps
+// that raise it tenfold or whose gain differs from the energy's drop.
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -16,6 +18,7 @@
 #include "shapes/shapes.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -28,10 +31,12 @@ int main(int argc, char** argv) {
   std::string pairs_file, meta_file;
   int faces = 1000;
   std::size_t decimate = 0;
-  bool each = false;
+  bool each = false, trace = false;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
       each = true;
+    else if (std::strcmp(argv[i], "--trace-energy") == 0)
+      trace = true;
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
@@ -46,7 +51,7 @@ int main(int argc, char** argv) {
   if (!(files.empty() || files.size() == 2)) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
-                 "[--validate-each-step] [--meta-mesh OUT.txt]\n");
+                 "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -94,6 +99,23 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "refine %3d %% (A %zu / B %zu faces)\n", percent, map.n_faces(0),
                  map.n_faces(1));
   };
+  double traced = map.energy();
+  std::size_t steps = 0;
+  if (trace)
+    options.on_step = [&](const ism::SurfaceStep& step) {
+      const double e = map.energy();
+      ++steps;
+      const bool split = step.kind == ism::SurfaceStep::split;
+      const bool jump = e > 10 * traced;
+      const bool mismatch = !split && std::abs((traced - e) - step.gain) > 1e-9 * traced;
+      if (jump || mismatch)
+        std::printf(
+            "step %zu: %s vertex %d of side %d (A %zu / B %zu faces): energy %.6g -> "
+            "%.6g, gain reported %.6g%s\n",
+            steps, split ? "split, new" : "move of", step.vertex, step.side, map.n_faces(0),
+            map.n_faces(1), traced, e, step.gain, mismatch ? " (not the drop)" : "");
+      traced = e;
+    };
   ism::SurfaceRefineStats stats;
   try {
     stats = ism::refine_surfaces(map, options);

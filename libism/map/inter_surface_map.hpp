@@ -23,6 +23,7 @@
 #include "map/meta_cut.hpp"
 #include "pm/pm.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -99,12 +100,17 @@ class InterSurfaceMap {
   /// Applies the next vertex split of a side: the new vertex and the split
   /// vertex are placed inside the old one-ring. Returns the new vertex, or
   /// -1 when the side is fully refined. A split whose new vertex finds no
-  /// valid place is undone (the map exactly as before), the other side's
-  /// vertices in and on the ring, the split vertex and its neighbours are
-  /// optimised, and the split tried again; after kSplitRetries such rounds
-  /// it throws std::runtime_error, the map still valid at the split before.
+  /// valid place, or only places that raise the energy of the ring more
+  /// than kSplitEnergyCap-fold or come nearer to the other side's vertices
+  /// and edges than moves may (a nearly degenerate piece), is undone (the
+  /// map exactly as before), the other side's vertices in and on the ring,
+  /// the split vertex and its neighbours are optimised, and the split tried
+  /// again, the last time accepting any valid place; after kSplitRetries
+  /// such rounds it throws std::runtime_error, the map still valid at the
+  /// split before.
   int split_next(int side);
   static constexpr int kSplitRetries = 3;
+  static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy
   /// (line searches inside the kernel of its one-ring in a chart); kept
@@ -189,7 +195,11 @@ class InterSurfaceMap {
   /// One attempt at the next split of side s: the new vertex, or -1 with
   /// the split undone. With `place` false the connectivity change is
   /// undone at once (for tests of the undo).
-  int try_split(int side, bool place = true);
+  /// (`cap`: placements whose ring energy exceeds cap times the ring's
+  /// before the split, or that come nearer than moves may to the other
+  /// side's vertices and edges, are refused; HUGE_VAL accepts any valid
+  /// one.)
+  int try_split(int side, bool place = true, double cap = HUGE_VAL);
   SplitUndo split_undo(int side, const Chart& chart, const VertexSplit& split) const;
   void restore(int side, const SplitUndo& undo);
   FaceLengths face_lengths(int side, const Triangle& t) const;

@@ -1185,7 +1185,7 @@ int InterSurfaceMap::add_edge(int s, int u, int v) {
   return e;
 }
 
-int InterSurfaceMap::try_split(int s, bool place) {
+int InterSurfaceMap::try_split(int s, bool place, double cap) {
   const VertexSplit& sp = input_[s].splits[next_split_[s]];
   const std::string where = std::string(s == 0 ? "M¹" : "M²") + " split " +
                             std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
@@ -1199,6 +1199,10 @@ int InterSurfaceMap::try_split(int s, bool place) {
   for (std::size_t i = 1; i < m; ++i)
     if (chart.ring[i] == sp.vr) last = i;
   if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
+
+  // The energy of the ring before the split bounds the placement's.
+  const double before = place && cap < HUGE_VAL ? faces_energy(s, chart.faces) : HUGE_VAL;
+  const double limit = before < HUGE_VAL ? cap * before : HUGE_VAL;
 
   // Connectivity: the faces from vl to vr go to vs, two new faces.
   MetaSide& S = meta_.side[s];
@@ -1277,7 +1281,9 @@ int InterSurfaceMap::try_split(int s, bool place) {
     ref[c] = i < last ? -1 : -2, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
     layout.tris.push_back({chart.faces[i], ref});
   }
-  layout.clearance = 1e-8;
+  // A strict attempt keeps the clearance of moves; the last one may come
+  // closer (a split must place its vertex).
+  layout.clearance = cap < HUGE_VAL ? 1e-6 : 1e-8;
   layout.tris.push_back({fa, {-1, -2, 0}});
   layout.tris.push_back({fb, {-2, -1, int(last)}});
   for (std::size_t i = 0; i <= last; ++i)
@@ -1300,18 +1306,32 @@ int InterSurfaceMap::try_split(int s, bool place) {
     for (int k = 1; k <= 8; ++k)
       for (std::size_t c = 0; c < n_base; ++c)
         candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
-    double best = HUGE_VAL;
-    Vec2 best_pos = chart.centre;
+    std::vector<std::pair<double, Vec2>> ranked;  // valid candidates below the limit
     for (const Vec2& c : candidates) {
       if (!inside_polygon(polygon, c)) continue;
       layout.inner[0].pos = c;
       const double e = evaluate(chart, layout, nullptr);
-      if (e < best) best = e, best_pos = c;
+      if (e < limit) ranked.push_back({e, c});
     }
-    if (best < HUGE_VAL) {
-      layout.inner[0].pos = best_pos;
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (!ranked.empty()) {
+      // Line searches from the best candidate, inside vs's kernel.
+      Vec2 p = ranked[0].second;
+      const double e = minimize_in_kernel(polygon, p, [&](const Vec2& q) {
+        layout.inner[0].pos = q;
+        return evaluate(chart, layout, nullptr);
+      });
+      if (e < ranked[0].first) ranked.insert(ranked.begin(), {e, p});
+    }
+    // The transaction's check may refuse a place the chart accepts (the
+    // faces of the other side cut differently): then the next best.
+    constexpr std::size_t kTries = 8;
+    for (std::size_t k = 0; k < ranked.size() && k < kTries; ++k) {
+      layout.inner[0].pos = ranked[k].second;
       Proposal proposal;
-      if (evaluate(chart, layout, &proposal) < HUGE_VAL && apply(s, changed, proposal, 0, false))
+      if (evaluate(chart, layout, &proposal) < HUGE_VAL &&
+          apply(s, changed, proposal, limit, limit < HUGE_VAL))
         return vs;
       chart_failure_ = 5000;
     }
@@ -1320,7 +1340,7 @@ int InterSurfaceMap::try_split(int s, bool place) {
   for (double eps = 1e-3; eps > 1e-12; eps *= 1e-2) {
     Proposal proposal;
     const bool set_up = split_in_place(chart, last, vs, e_vl, e_vr, eps, proposal);
-    if (set_up && apply(s, changed, proposal, 0, false)) {
+    if (set_up && apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
       ++stats_.splits_in_place;
       return vs;
     }
@@ -1400,7 +1420,10 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
 int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
   for (int attempt = 0;; ++attempt) {
-    const int vs = try_split(s);
+    // Placements raising the ring's energy more than kSplitEnergyCap-fold
+    // are refused but in the last attempt: such a piece is nearly
+    // degenerate, and later moves often cannot undo it.
+    const int vs = try_split(s, true, attempt < kSplitRetries ? kSplitEnergyCap : HUGE_VAL);
     if (vs >= 0) return vs;
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
     if (attempt == kSplitRetries)

@@ -7,31 +7,36 @@ namespace ism {
 
 namespace {
 
-void check(const InterSurfaceMap& map, bool on, const char* what, int side, int v) {
-  if (!on) return;
-  if (auto problem = map.validate())
-    throw std::runtime_error(std::string("map invalid after ") + what + " of vertex " +
-                             std::to_string(v) + " of side " + std::to_string(side) + ": " +
-                             *problem);
+/// After a split or a kept move: validation when asked, then the hook.
+void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceStep step) {
+  if (options.validate_each_step)
+    if (auto problem = map.validate())
+      throw std::runtime_error(std::string("map invalid after ") +
+                               (step.kind == SurfaceStep::split ? "splitting" : "optimising") +
+                               " of vertex " + std::to_string(step.vertex) + " of side " +
+                               std::to_string(step.side) + ": " + *problem);
+  if (options.on_step) options.on_step(step);
+}
+
+/// Optimises v; the gain (the step reported when kept).
+double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v) {
+  const double g = map.optimize_vertex(side, v);
+  if (g > 0) after(map, options, {SurfaceStep::optimise, side, v, g});
+  return g;
 }
 
 }  // namespace
 
-double surfaces_sweep(InterSurfaceMap& map, bool validate_each_step) {
+double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   double gain = 0;
   for (int side = 0; side < 2; ++side)
-    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v) {
-      if (!map.is_active(side, int(v))) continue;
-      const double g = map.optimize_vertex(side, int(v));
-      if (g > 0) check(map, validate_each_step, "optimising", side, int(v));
-      gain += g;
-    }
+    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
+      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v));
   return gain;
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats stats;
-  const bool each = options.validate_each_step;
   const std::size_t total_splits = map.splits_total(0) + map.splits_total(1);
   auto fraction = [&](int side) {
     return map.splits_total(side)
@@ -50,17 +55,16 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     const int vs = map.split_next(side);
     ++in_block;
     ++stats.splits;
-    check(map, each, "splitting", side, vs);
+    after(map, options, {SurfaceStep::split, side, vs, 0.0});
     std::vector<int> todo = map.neighbours(side, vs);
     todo.push_back(vs);
-    for (int v : todo)
-      if (map.optimize_vertex(side, v) > 0) check(map, each, "optimising", side, v);
+    for (int v : todo) optimise(map, options, side, v);
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (surfaces_sweep(map, each) < 1e-3 * e) break;
+        if (surfaces_sweep(map, options) < 1e-3 * e) break;
       }
       last_sweep = total;
     }
@@ -70,7 +74,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;
-    if (surfaces_sweep(map, each) < options.final_relative_gain * e) break;
+    if (surfaces_sweep(map, options) < options.final_relative_gain * e) break;
   }
   stats.energy = map.energy();
   return stats;

@@ -12,6 +12,15 @@
 
 namespace ism {
 
+/// One operation of the refinement, as reported to SurfaceRefineOptions::on_step.
+struct SurfaceStep {
+  enum Kind { split, optimise } kind;
+  int side, vertex;
+  /// The energy gained (optimise: > 0, the move was kept); 0 for a split,
+  /// which may raise the energy.
+  double gain;
+};
+
 struct SurfaceRefineOptions {
   double sweep_growth = 1.5;
   int max_level_sweeps = 2;
@@ -24,6 +33,9 @@ struct SurfaceRefineOptions {
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
   std::function<void(double)> progress;  // fraction of all splits done
+  /// Called after every split and every kept move (for traces and tests of
+  /// the energy bookkeeping); may throw to stop the refinement.
+  std::function<void(const SurfaceStep&)> on_step;
 };
 
 struct SurfaceRefineStats {
@@ -35,6 +47,6 @@ struct SurfaceRefineStats {
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// One optimisation of every active vertex of both sides; the energy gained.
-double surfaces_sweep(InterSurfaceMap& map, bool validate_each_step = false);
+double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 }  // namespace ism
