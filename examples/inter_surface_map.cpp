@@ -5,6 +5,7 @@
 // stretch optimised on both; validation from both sides and the measures.
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
+//                     [--level-sweeps N] [--final-sweeps N]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // Without meshes: a generated sphere and a generated bumpy blob.
@@ -32,11 +33,16 @@ int main(int argc, char** argv) {
   int faces = 1000;
   std::size_t decimate = 0;
   bool each = false, trace = false;
+  int level_sweeps = -1, final_sweeps = -1;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
       each = true;
     else if (std::strcmp(argv[i], "--trace-energy") == 0)
       trace = true;
+    else if (std::strcmp(argv[i], "--level-sweeps") == 0 && i + 1 < argc)
+      level_sweeps = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--final-sweeps") == 0 && i + 1 < argc)
+      final_sweeps = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
@@ -51,7 +57,8 @@ int main(int argc, char** argv) {
   if (!(files.empty() || files.size() == 2)) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
-                 "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]\n");
+                 "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
+                 "[--final-sweeps N]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -91,13 +98,16 @@ int main(int argc, char** argv) {
   ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
+  if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;
+  if (final_sweeps >= 0) options.max_final_sweeps = final_sweeps;
   int shown = -5;  // progress on stderr, every 5 % of the splits
   options.progress = [&](double done) {
     const int percent = int(done * 100);
     if (percent / 5 == shown / 5) return;
     shown = percent;
-    std::fprintf(stderr, "refine %3d %% (A %zu / B %zu faces)\n", percent, map.n_faces(0),
-                 map.n_faces(1));
+    // Efficiency 2 / energy: the symmetric energy's terms are area-scaled.
+    std::fprintf(stderr, "refine %3d %% (A %zu / B %zu faces), symmetric efficiency %.3f\n",
+                 percent, map.n_faces(0), map.n_faces(1), 2 / map.energy());
   };
   double traced = map.energy();
   std::size_t steps = 0;
