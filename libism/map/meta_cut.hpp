@@ -130,6 +130,18 @@ struct EnergyTerms {
   double inverse_weight = 1;
 };
 
+/// The stretch of one affine triangle, corners p on side 0 and q on side 1
+/// (both counter-clockwise), from the corners themselves (no edge lengths:
+/// slivers keep their digits): forward = area on side 1 · σ²(side 0 -> 1),
+/// backward = area on side 0 · σ²(side 1 -> 0), σ² = |J|²_F / 2; both
+/// HUGE_VAL (areas 0) if either layout is not positive. The one definition
+/// behind triangle_energy and the measures of a meta-mesh.
+struct StretchTerms {
+  double forward, backward;
+  double area0, area1;
+};
+StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q);
+
 /// Energy of one affine triangle: corners p on side 0, q on side 1 (both
 /// counter-clockwise); HUGE_VAL if either is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,

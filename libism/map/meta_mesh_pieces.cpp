@@ -167,20 +167,27 @@ std::optional<MapMeasures> measures(const MetaMesh& meta) {
 }
 
 MapMeasures measures(std::span<const MetaPiece> all) {
-  std::vector<StretchPiece> pieces;
-  pieces.reserve(all.size());
-  auto lengths = [](const Vec2& a, const Vec2& b, const Vec2& c) {
-    return TriangleLengths{(c - b).norm(), (a - c).norm(), (b - a).norm()};
-  };
+  // From the pieces' triangles in both layouts, as the energy the map core
+  // lowers (triangle_stretch_terms): the normalised L2 stretch of each
+  // direction, L2n² = Σ A_to σ² / A_to · (A_from / A_to).
+  double forward = 0, backward = 0, area0 = 0, area1 = 0;
+  bool finite = !all.empty();
   for (const MetaPiece& piece : all) {
     const PieceTriangulation tri = triangulate_piece(piece);
+    if (tri.triangles.empty()) finite = false;
     const auto& [p, q] = tri.points;
-    for (const auto& t : tri.triangles)
-      pieces.push_back({lengths(p[t[0]], p[t[1]], p[t[2]]), lengths(q[t[0]], q[t[1]], q[t[2]])});
+    for (const auto& t : tri.triangles) {
+      const StretchTerms s =
+          triangle_stretch_terms({p[t[0]], p[t[1]], p[t[2]]}, {q[t[0]], q[t[1]], q[t[2]]});
+      if (!(s.forward < HUGE_VAL)) finite = false;
+      forward += s.forward, backward += s.backward, area0 += s.area0, area1 += s.area1;
+    }
   }
-  if (pieces.empty()) return {};
-  const SymmetricStretch s = symmetric_stretch(pieces);
-  return MapMeasures{s.efficiency, s.forward_efficiency, s.backward_efficiency};
+  if (all.empty()) return {};
+  if (!finite || !(area0 > 0) || !(area1 > 0)) return MapMeasures{0, 0, 0};
+  const double l2_forward = forward / area1 * (area0 / area1);
+  const double l2_backward = backward / area0 * (area1 / area0);
+  return MapMeasures{2 / (l2_forward + l2_backward), 1 / l2_forward, 1 / l2_backward};
 }
 
 MetaMeshSize meta_mesh_size(const MetaMesh& meta) {
