@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "refine %3d %% (A %zu / B %zu faces), symmetric efficiency %.3f\n",
                  percent, map.n_faces(0), map.n_faces(1), 2 / map.energy());
   };
-  double traced = map.energy();
+  double traced = trace ? map.energy() : 0;
   std::size_t steps = 0;
   if (trace)
     options.on_step = [&](const ism::SurfaceStep& step) {
