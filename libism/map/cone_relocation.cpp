@@ -20,7 +20,8 @@ double SurfaceMap::relocate_cone(int v) {
 std::optional<double> SurfaceMap::move_cone(int v, int to,
                                             std::vector<std::pair<double, int>>* estimates) {
   const int x = at_domain_vertex_[v];
-  if (x < 0 || !domain_.is_cone(x) || !options_.release_features) return std::nullopt;
+  if (x < 0 || !domain_.is_cone(x) || is_fixed(x) || !options_.release_features)
+    return std::nullopt;
   const std::vector<int> around = neighbours(v);
   const std::size_t m = around.size();
 
@@ -262,7 +263,8 @@ void SurfaceMap::restore_region(const RegionState& state) {
 
 double SurfaceMap::relocate_cone_relaxed(int v, int rings, int passes) {
   const int x = at_domain_vertex_[v];
-  if (x < 0 || !domain_.is_cone(x) || !options_.release_features || rings < 1) return 0.0;
+  if (x < 0 || !domain_.is_cone(x) || is_fixed(x) || !options_.release_features || rings < 1)
+    return 0.0;
   // Only vertices of the region move, so only the faces around them change.
   const RegionState saved = save_region(rings_around(v, rings));
   const double before = faces_energy(saved.faces);

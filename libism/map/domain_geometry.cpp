@@ -86,6 +86,12 @@ DomainGeometry::DomainGeometry(TriangleMesh connectivity, std::vector<FaceLength
     }
 }
 
+void DomainGeometry::set_fixed(std::vector<char> fixed) {
+  if (!fixed.empty() && fixed.size() != n_vertices())
+    throw std::invalid_argument("DomainGeometry::set_fixed: one entry per vertex");
+  fixed_ = std::move(fixed);
+}
+
 bool DomainGeometry::is_cone(int v) const {
   return std::abs(total_angle_[v] - 2 * M_PI) > 1e-9;
 }

@@ -51,6 +51,12 @@ class DomainGeometry {
   const std::vector<FanEntry>& fan(int v) const { return fan_[v]; }
   double total_angle(int v) const { return total_angle_[v]; }
   bool is_cone(int v) const;
+  /// Vertices that stay on their feature vertex of the surface whatever
+  /// their angle: never released, never moved by a cone move or a split
+  /// (e.g. the boundary points and loop centres of bounded_base()). `fixed`
+  /// has one entry per vertex, or is empty (none fixed, the default).
+  void set_fixed(std::vector<char> fixed);
+  bool is_fixed(int v) const { return !fixed_.empty() && fixed_[v] != 0; }
   /// Position of fan entry `i` of v in the fan's layout: v at the origin,
   /// the face rotated to start at angle fan[i].start (plus `turns` full
   /// total angles, for charts that wrap around v).
@@ -68,6 +74,7 @@ class DomainGeometry {
   std::vector<std::array<int, 3>> neighbour_, neighbour_edge_;
   std::vector<std::vector<FanEntry>> fan_;
   std::vector<double> total_angle_;
+  std::vector<char> fixed_;
 };
 
 /// Edge lengths for the given metric on the octahedron of domain::octahedron()

@@ -45,7 +45,7 @@ SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, 
     location_[v].face = entry.face;
     location_[v].bary = Eigen::Vector3d::Zero();
     location_[v].bary[entry.corner] = 1.0;
-    pinned_[v] = domain.is_cone(int(i)) || !options_.release_features;
+    pinned_[v] = domain.is_cone(int(i)) || is_fixed(int(i)) || !options_.release_features;
   }
   std::map<std::array<int, 3>, int> domain_face;
   for (std::size_t f = 0; f < domain.n_faces(); ++f) {

@@ -141,6 +141,8 @@ class SurfaceMap {
 
   const DomainGeometry& domain() const { return domain_; }
   const MapOptions& options() const { return options_; }
+  /// Whether domain vertex x stays on its feature (DomainGeometry::is_fixed).
+  bool is_fixed(int x) const { return domain_.is_fixed(x); }
   std::size_t n_vertices() const { return active_vertices_; }
   std::size_t n_faces() const { return faces_.size(); }
   std::size_t splits_applied() const { return next_split_; }

@@ -29,7 +29,7 @@ int SurfaceMap::split_next() {
   // A cone keeps the larger share of its angle: when vs takes at least half
   // of it, vs goes onto the cone and vt moves off (with more than 2π a cone
   // could otherwise leave vs a one-ring that cannot be flat).
-  if (x >= 0 && domain_.is_cone(x)) {
+  if (x >= 0 && domain_.is_cone(x) && !is_fixed(x)) {
     double sector = 0.0;
     for (std::size_t i = 0; i < last; ++i) {
       const Vec2 a = ring.positions[i], b = ring.positions[i + 1];

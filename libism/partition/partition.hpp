@@ -73,6 +73,13 @@ struct PartitionOptions {
   /// half a period apart.
   std::vector<Eigen::Vector2d> surface_torus_points;
   std::vector<Eigen::Vector2d> domain_torus_points;
+  /// trace_path_network(): domain edges (a, b) whose path is given as the
+  /// surface edge between features[a] and features[b] (e.g. the boundary and
+  /// cap edges of bounded_base()): taken before any traced path, when the
+  /// order at their features allows, and that surface edge is never split.
+  /// trace_path_network() throws PartitionError when the two features are
+  /// not joined by an edge or (a, b) is not a domain edge.
+  std::vector<std::array<int, 2>> direct_edges;
 };
 
 /// Traces the network of `domain`'s connectivity on `surface` between the

@@ -30,6 +30,10 @@ namespace {
 using namespace partition_detail;
 
 using Mesh = TracerMesh;
+
+// The tracer gives up when its mesh grows beyond this many times the
+// surface's vertices (plus 100000): see NetworkTracer::run().
+constexpr std::size_t kMaxSteinerFactor = 10;
 using VH = Mesh::VertexHandle;
 using HH = Mesh::HalfedgeHandle;
 
@@ -69,6 +73,20 @@ class NetworkTracer {
     on_network_.assign(mesh_.n_vertices(), 0);
     for (int f : features_) on_network_[f] = 1;
     build_domain_rings();
+    direct_.assign(domain_edges_.size(), 0);
+    for (const auto& [a, b] : options.direct_edges) {
+      const auto it = edge_index_.find({std::min(a, b), std::max(a, b)});
+      if (it == edge_index_.end())
+        throw PartitionError("direct path " + std::to_string(a) + "-" + std::to_string(b) +
+                             " is not a domain edge");
+      const VH fa(features_[a]), fb(features_[b]);
+      if (!mesh_.find_halfedge(fa, fb).is_valid())
+        throw PartitionError("direct path " + std::to_string(a) + "-" + std::to_string(b) +
+                             ": surface vertices " + std::to_string(fa.idx()) + " and " +
+                             std::to_string(fb.idx()) + " are not joined by an edge");
+      direct_[it->second] = 1;
+      reserved_.insert(undirected_key(fa.idx(), fb.idx()));
+    }
     std::size_t used = 0;  // vertices that faces use: isolated ones do not count
     for (VH v : mesh_.vertices()) used += !mesh_.is_isolated(v);
     long chi = long(used) - long(mesh_.n_edges()) + long(surface.n_faces());
@@ -105,6 +123,8 @@ class NetworkTracer {
   std::map<std::pair<int, int>, int> edge_index_;
   std::vector<std::vector<int>> ring_;  // ccw domain neighbours of each domain vertex
   std::vector<std::vector<int>> paths_;
+  std::vector<char> direct_;                    // per domain edge: its path is one given edge
+  std::unordered_set<std::uint64_t> reserved_;  // those surface edges: never split
   bool swirl_heuristics_ = false;
   std::vector<char> extremity_;  // per feature: far from its nearest features
   // Homotopy guide (empty without one): torus points in [0, 1)² per mesh
@@ -198,8 +218,17 @@ std::vector<char> NetworkTracer::allowed_ring(int i, int j) {
 // A* (Euclidean heuristic) from feature a to feature b of domain edge e,
 // through free vertices only, leaving and entering in the right sectors.
 std::optional<Candidate> NetworkTracer::shortest_path(int e) {
-  if (!torus_points_.empty()) return shortest_path_in_class(e);
   const auto [a, b] = domain_edges_[e];
+  if (direct_[e]) {
+    // Given: the surface edge itself, ahead of every traced path, once the
+    // order at both features allows it.
+    if (!allowed_ring(a, b)[features_[b]] || !allowed_ring(b, a)[features_[a]]) return std::nullopt;
+    Candidate c{0.0, e, {features_[a], features_[b]}};
+    c.priority = -1.0;
+    c.side_checked = true;
+    return c;
+  }
+  if (!torus_points_.empty()) return shortest_path_in_class(e);
   const VH source(features_[a]), target(features_[b]);
   const std::vector<char> leave = allowed_ring(a, b), enter = allowed_ring(b, a);
   const std::size_t n = mesh_.n_vertices();
@@ -457,7 +486,8 @@ void NetworkTracer::split_edges_between_network_vertices() {
     const VH a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
     const VH b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
     if (on_network_[a.idx()] && on_network_[b.idx()] &&
-        !network_edges_.count(undirected_key(a.idx(), b.idx())))
+        !network_edges_.count(undirected_key(a.idx(), b.idx())) &&
+        !reserved_.count(undirected_key(a.idx(), b.idx())))
       to_split.push_back(e);
   }
   for (auto e : to_split) {
@@ -481,12 +511,21 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
   std::vector<int> waiting;  // edges to (re)compute before the next choice
   for (int e = 0; e < total; ++e) waiting.push_back(e);
+  // Cycles met before the features are all connected: computed again only
+  // once they are (recomputing them every round costs quadratic time on
+  // large domains).
+  std::vector<int> postponed_cycles;
 
   while (traced_ < total) {
-    for (int e : waiting)
-      if (auto c = shortest_path(e)) queue.push(std::move(*c));
-    waiting.clear();
+    // An edge without a path now (its feature's free sectors are all
+    // network vertices) waits for the next path's Steiner vertices.
     std::vector<int> deferred;
+    for (int e : waiting)
+      if (auto c = shortest_path(e))
+        queue.push(std::move(*c));
+      else
+        deferred.push_back(e);
+    waiting.clear();
     bool inserted = false;
     while (!queue.empty() && !inserted) {
       Candidate c = queue.top();
@@ -496,7 +535,7 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
       const bool joins_components = joined.find(a) != joined.find(b);
       // A cycle waits until the features are all connected (tree first).
       if (!joins_components && components > 1) {
-        deferred.push_back(c.edge);
+        postponed_cycles.push_back(c.edge);
         continue;
       }
       if (!still_valid(c)) {
@@ -537,14 +576,27 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
       }
       if (joins_components) {
         joined.unite(a, b);
-        --components;
+        if (--components == 1) {
+          deferred.insert(deferred.end(), postponed_cycles.begin(), postponed_cycles.end());
+          postponed_cycles.clear();
+        }
       }
       split_edges_between_network_vertices();
+      // Paths that wind around each other need Steiner vertices without
+      // end (each one runs beside the last at twice its density): stop
+      // cleanly instead of exhausting memory.
+      if (mesh_.n_vertices() > kMaxSteinerFactor * original_vertices_ + 100000)
+        throw PartitionError(
+            "the network needed over " + std::to_string(mesh_.n_vertices() - original_vertices_) +
+            " Steiner vertices (paths winding around each other) after " + std::to_string(traced_) +
+            " of " + std::to_string(total) + " paths; try another base");
       inserted = true;
       if (progress) progress(double(traced_) / total);
     }
     if (!inserted) {
-      const auto [a, b] = domain_edges_[deferred.empty() ? 0 : deferred.front()];
+      const auto [a, b] = domain_edges_[!deferred.empty()           ? deferred.front()
+                                        : !postponed_cycles.empty() ? postponed_cycles.front()
+                                                                    : 0];
       throw PartitionError("cannot trace the path between features " + std::to_string(a) + " and " +
                            std::to_string(b) +
                            ": the features' order cannot be realised on the surface");

@@ -1,5 +1,7 @@
 #include "pipeline/gim_remesh.hpp"
 
+#include "pipeline/input_faces.hpp"
+
 #include "domain/domain.hpp"
 #include "io/image_io.hpp"
 #include "io/io.hpp"
@@ -56,50 +58,6 @@ std::vector<std::array<unsigned char, 3>> preview_pixels(const GeometryImage& im
     }
   return out;
 }
-
-// Which faces of a map lie on the input surface and which on a cap. Every
-// candidate network cuts the capped surface's faces at Steiner vertices
-// (each at a position of its own), and a map's faces are its network's, so
-// a face is known by its corners' positions whichever network it came from.
-class InputFaces {
- public:
-  using Key = std::array<double, 9>;
-
-  void add(const PathNetwork& network, const CappedMesh& capped) {
-    if (network.face_origin.size() != network.surface.n_faces())
-      throw std::logic_error("gim-remesh: the network does not record its faces' origins");
-    for (std::size_t f = 0; f < network.surface.n_faces(); ++f)
-      on_input_[key(network.surface.positions, network.surface.triangles[f])] =
-          !capped.is_cap_face(network.face_origin[f]);
-  }
-
-  /// Per face of the map: 1 on the input surface, 0 on a cap (empty when
-  /// there are no caps: every face counts).
-  std::vector<char> of(const SurfaceMap& map) const {
-    if (on_input_.empty()) return {};
-    std::vector<char> out(map.n_faces());
-    for (std::size_t f = 0; f < map.n_faces(); ++f) {
-      const auto it = on_input_.find(key(map.positions(), map.faces()[f]));
-      if (it == on_input_.end())
-        throw std::logic_error("gim-remesh: a face of the map is not a face of its network");
-      out[f] = it->second;
-    }
-    return out;
-  }
-
- private:
-  static Key key(const std::vector<Vec3>& positions, const Triangle& t) {
-    std::array<Vec3, 3> p{positions[t[0]], positions[t[1]], positions[t[2]]};
-    std::sort(p.begin(), p.end(), [](const Vec3& a, const Vec3& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-    });
-    Key k;
-    for (int c = 0; c < 3; ++c)
-      for (int i = 0; i < 3; ++i) k[3 * c + i] = p[c][i];
-    return k;
-  }
-  std::map<Key, char> on_input_;
-};
 
 }  // namespace
 

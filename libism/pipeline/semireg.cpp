@@ -1,5 +1,9 @@
 #include "pipeline/semireg.hpp"
 
+#include "mesh/boundary.hpp"
+#include "partition/bounded_base.hpp"
+#include "pipeline/input_faces.hpp"
+
 #include "io/io.hpp"
 #include "map/map.hpp"
 #include "metrics/metrics.hpp"
@@ -22,9 +26,13 @@
 namespace ism::pipeline {
 namespace {
 
-// Genus of a closed connected manifold: V - E + F = 2 - 2g.
+// Genus of a connected manifold with b boundary loops: V - E + F = 2 - 2g - b.
 int genus_of(const TriangleMesh& mesh) {
-  return int((2 - euler_characteristic(mesh)) / 2);
+  return int((2 - euler_characteristic(mesh) - long(boundary_loops(mesh).size())) / 2);
+}
+
+std::string loops_word(std::size_t n) {
+  return std::to_string(n) + (n == 1 ? " boundary loop" : " boundary loops");
 }
 
 std::string fixed(double x, int digits) {
@@ -36,7 +44,8 @@ std::string fixed(double x, int digits) {
 // The user's base: checked, its vertices snapped to distinct surface vertices
 // near them. Returns the base (on the surface) and the features.
 std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const SemiregOptions& o,
-                                                    const TriangleMesh& surface) {
+                                                    const TriangleMesh& surface,
+                                                    const CappedMesh& capped) {
   const std::string& base_name = o.base.path;
   const std::string no_faces =
       base_name +
@@ -56,9 +65,19 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Semire
       throw tool::reading_failure(base_name, e);
     }
   }
-  TriangleMesh base =
-      run.load_surface(o.base, {.tool = "semireg (as a base mesh)", .closed = true});
+  TriangleMesh base = run.load_surface(o.base, {.tool = "semireg (as a base mesh)"});
   run.stage("snap base");
+  // An open surface wants a base with as many loops (each boundary vertex of
+  // the base snaps onto the surface's boundary, each interior one inside).
+  const std::size_t base_loops = boundary_loops(base).size();
+  if (base_loops != capped.loops.size())
+    throw tool::Failure(base_name + ": the base has " + loops_word(base_loops) + ", the surface " +
+                        o.input.path + " has " + loops_word(capped.loops.size()));
+  std::vector<char> surface_boundary(surface.n_vertices(), 0), base_boundary(base.n_vertices(), 0);
+  for (const auto& loop : capped.loops)
+    for (int v : loop) surface_boundary[v] = 1;
+  for (const auto& loop : boundary_loops(base))
+    for (int v : loop) base_boundary[v] = 1;
   const int surface_genus = genus_of(surface), base_genus = genus_of(base);
   if (base_genus != surface_genus)
     throw tool::Failure(base_name + ": genus " + std::to_string(base_genus) +
@@ -74,6 +93,7 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Semire
     double best = INFINITY;
     int nearest = -1;
     for (std::size_t v = 0; v < surface.n_vertices(); ++v) {
+      if (surface_boundary[v] != base_boundary[i]) continue;
       const double d = (surface.positions[v] - p).squaredNorm();
       if (d < best) best = d, nearest = int(v);
     }
@@ -99,6 +119,13 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Semire
   return {std::move(base), std::move(features)};
 }
 
+// On an open surface, no decimated base boundary edge spans more than this
+// many boundary edges of the surface: bounded_base() fans the surface
+// boundary vertices between its ends from the opposite corner, and the
+// network's paths converging there cost time steeply (venus_loop2, 220 loop
+// vertices, base 50: spans of about 35 gave a tracer mesh of 389K vertices).
+constexpr std::size_t kMaxBoundarySpan = 8;
+
 struct BaseCandidate {
   std::string name;
   TriangleMesh mesh;
@@ -111,7 +138,10 @@ struct BaseCandidate {
 // towards valence 6. Each decimation's vertices also compete with the
 // connectivity of their Voronoi regions (delaunay_base) where that is valid.
 std::vector<BaseCandidate> decimated_bases(tool::Run& run, const SemiregOptions& o,
-                                           const TriangleMesh& surface) {
+                                           const TriangleMesh& surface, const CappedMesh& capped) {
+  const bool open = !capped.loops.empty();
+  std::vector<int> centres;
+  for (std::size_t j = 0; j < capped.loops.size(); ++j) centres.push_back(capped.centre(j));
   const std::pair<const char*, SimplifyOptions> priorities[] = {
       {"isotropic", {.priority = SimplifyPriority::isotropic}},
       {"isotropic, valence 0.01",
@@ -131,20 +161,27 @@ std::vector<BaseCandidate> decimated_bases(tool::Run& run, const SemiregOptions&
     options.progress = [&](double f) { progress.update((done + f) / n); };
     ProgressiveMesh decimated;
     try {
-      decimated = simplify_to(surface, o.base_size, options);
+      // An open surface is decimated capped, its loops kept as closed paths
+      // and its centres kept; the caps are then dropped from the base.
+      decimated = open ? simplify_capped_to(capped.mesh, capped.loops, centres,
+                                            o.base_size + centres.size(), options, kMaxBoundarySpan)
+                       : simplify_to(surface, o.base_size, options);
     } catch (const std::runtime_error& e) {
       throw tool::Failure(o.input.path + ": cannot decimate to a base mesh: " + e.what());
     }
-    if (decimated.base_vertices.size() != o.base_size && bases.empty())
-      run.note(o.input.path + ": the base has " + std::to_string(decimated.base_vertices.size()) +
+    // The centres are the last base vertices (their indices follow the input's).
+    auto [base, vertices] = open ? uncapped_base(decimated, centres.size())
+                                 : UncappedBase{base_mesh(decimated), decimated.base_vertices};
+    if (vertices.size() != o.base_size && bases.empty())
+      run.note(o.input.path + ": the base has " + std::to_string(vertices.size()) +
                " vertices, not " + std::to_string(o.base_size) + " (no legal collapse left)");
-    bases.push_back({name, base_mesh(decimated), decimated.base_vertices});
+    bases.push_back({name, std::move(base), vertices});
+    if (open) continue;  // the Voronoi dual is built for closed surfaces
     // The same vertices with the intrinsic connectivity of their Voronoi
     // regions, when that is a valid base: often better shaped faces.
     try {
-      TriangleMesh dual = delaunay_base(surface, decimated.base_vertices);
-      dual_bases.push_back(
-          {std::string(name) + ", Voronoi dual", std::move(dual), decimated.base_vertices});
+      TriangleMesh dual = delaunay_base(surface, vertices);
+      dual_bases.push_back({std::string(name) + ", Voronoi dual", std::move(dual), vertices});
     } catch (const PartitionError&) {
       // Too sparse for a disc per region here: the decimation alone competes.
     }
@@ -158,9 +195,13 @@ std::vector<BaseCandidate> decimated_bases(tool::Run& run, const SemiregOptions&
 
 // Base vertices without faces: the connectivity is the dual of their
 // geodesic Voronoi regions on the surface (free connectivity).
-BaseCandidate vertex_base(tool::Run& run, const SemiregOptions& o, const TriangleMesh& surface) {
+BaseCandidate vertex_base(tool::Run& run, const SemiregOptions& o, const TriangleMesh& surface,
+                          const CappedMesh& capped) {
   run.stage("base");
   const std::string& name = o.base_vertices.path;
+  if (!capped.loops.empty())
+    throw tool::Failure(o.input.path + ": " + loops_word(capped.loops.size()) +
+                        "; --base-vertices needs a closed surface (give --base or --base-size)");
   std::vector<int> sites;
   try {
     const auto entries = o.base_vertices.read();
@@ -182,6 +223,26 @@ BaseCandidate vertex_base(tool::Run& run, const SemiregOptions& o, const Triangl
   bj["file"] = name;
   bj["connectivity"] = "geodesic Voronoi dual";
   return {"vertices", std::move(base), std::move(sites)};
+}
+
+// The map keeps the surface's boundary on the base's only if the network's
+// paths of the caps' edges are the surface's own cap edges; the tracer finds
+// them as the shortest paths, this checks that it did.
+void check_boundary_paths(const PathNetwork& network, const BoundedBase& bounded) {
+  std::set<std::pair<int, int>> cap_edges;
+  for (std::size_t f = 0; f < bounded.domain.n_faces(); ++f)
+    if (bounded.cap_face[f]) {
+      const Triangle& t = bounded.domain.triangles[f];
+      for (int k = 0; k < 3; ++k)
+        cap_edges.insert({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])});
+    }
+  for (std::size_t e = 0; e < network.domain_edges.size(); ++e) {
+    const auto [a, b] = network.domain_edges[e];
+    if (cap_edges.count({a, b}) && network.paths[e].size() != 2)
+      throw PartitionError("the path along the boundary between surface vertices " +
+                           std::to_string(bounded.features[a]) + " and " +
+                           std::to_string(bounded.features[b]) + " is not the boundary edge");
+  }
 }
 
 }  // namespace
@@ -211,11 +272,17 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
                             "--base-size " + std::to_string(o.base_size));
   }
 
-  const TriangleMesh surface = run.load_surface(
-      o.input, {.tool = "semireg",
-                .closed = true,
-                .closed_advice = "fill its holes first (gim-remesh maps genus-0 surfaces "
-                                 "with holes)"});
+  const TriangleMesh surface = run.load_surface(o.input, {.tool = "semireg"});
+  // An open surface is mapped closed: each loop capped by a fan (paper §4),
+  // and the base's loops by fans over points at the surface's boundary
+  // vertices (bounded_base), so that the boundary maps onto the base's.
+  CappedMesh capped;
+  try {
+    capped = cap_boundary_loops(surface, boundary_loops(surface));
+  } catch (const std::invalid_argument& e) {
+    throw tool::Failure(input + ": " + e.what());
+  }
+  const bool open = !capped.loops.empty();
   if (o.base_size) tool::check_base_size(run, o.base_size, surface.n_vertices(), input);
 
   // Candidate bases: the user's, or decimations with different priorities
@@ -223,24 +290,34 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   // coarse level and the lowest energy wins).
   std::vector<BaseCandidate> bases;
   if (!o.base.empty()) {
-    auto [base, features] = user_base(run, o, surface);
+    auto [base, features] = user_base(run, o, surface, capped);
     bases.push_back({"file", std::move(base), std::move(features)});
   } else if (!o.base_vertices.empty()) {
-    bases.push_back(vertex_base(run, o, surface));
+    bases.push_back(vertex_base(run, o, surface, capped));
   } else {
-    bases = decimated_bases(run, o, surface);
+    bases = decimated_bases(run, o, surface, capped);
   }
 
   tool::check_semiregular(run, bases.front().mesh.n_faces(), o.levels, "the base");
   // Each base traced on its own core; progress follows the first.
   tool::Progress& partition_progress = run.stage("partition");
   std::vector<std::optional<PathNetwork>> networks(bases.size());
+  std::vector<std::optional<BoundedBase>> bounded(bases.size());
   std::vector<std::string> errors(bases.size());
   tbb::parallel_for(std::size_t(0), bases.size(), [&](std::size_t i) {
     PartitionOptions options;
     if (i == 0) options.progress = [&](double f) { partition_progress.update(f); };
     try {
-      networks[i] = trace_path_network(surface, bases[i].mesh, bases[i].features, options);
+      if (open) {
+        BoundedBase bb = bounded_base(bases[i].mesh, bases[i].features, capped);
+        options.direct_edges = bb.cap_edges();
+        PathNetwork network = trace_path_network(capped.mesh, bb.domain, bb.features, options);
+        check_boundary_paths(network, bb);
+        bounded[i] = std::move(bb);
+        networks[i] = std::move(network);
+      } else {
+        networks[i] = trace_path_network(surface, bases[i].mesh, bases[i].features, options);
+      }
     } catch (const PartitionError& e) {
       errors[i] = e.what();
     }
@@ -255,6 +332,9 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   }
   if (candidate_base.empty()) throw tool::Failure(input + ": " + first_error);
 
+  InputFaces input_faces;
+  if (open)
+    for (std::size_t i : candidate_base) input_faces.add(*networks[i], capped);
   tool::Progress& progress = run.stage("map");
   const auto [chosen, stats] = tool::run_map_stage(
       run, progress,
@@ -264,15 +344,24 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
       o.map,
       [&](const MapOptions& options) {
         std::vector<DomainCandidate> candidates;
-        for (std::size_t i : candidate_base)
-          candidates.push_back(
-              {std::make_unique<DomainGeometry>(bases[i].mesh, equilateral_lengths(bases[i].mesh)),
-               *networks[i]});
+        for (std::size_t i : candidate_base) {
+          if (!open) {
+            candidates.push_back({std::make_unique<DomainGeometry>(
+                                      bases[i].mesh, equilateral_lengths(bases[i].mesh)),
+                                  *networks[i]});
+            continue;
+          }
+          auto domain = std::make_unique<DomainGeometry>(bounded[i]->domain, bounded[i]->lengths);
+          domain->set_fixed(bounded[i]->fixed);
+          candidates.push_back({std::move(domain), *networks[i]});
+        }
         return choose_domain(std::move(candidates), options, 5000);
       },
-      [](const SurfaceMap& m) { return m.measures().forward_efficiency; });
+      // Judged on the input surface: what the caps take does not count.
+      [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });
   const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
+  const std::optional<BoundedBase>& chosen_bounded = bounded[candidate_base[chosen->candidate]];
   const TriangleMesh& base = chosen_base.mesh;
   {
     Json& bj = run.report()["base"];
@@ -281,7 +370,8 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     bj["candidates"] = bases.size();
     bj["chosen"] = chosen_base.name;
   }
-  run.report()["partition"] = partition_report(chosen->network, base, chosen->pm);
+  run.report()["partition"] =
+      partition_report(chosen->network, open ? chosen_bounded->domain : base, chosen->pm);
 
   const MetaMesh meta = tool::validate_map(run, map);
 
@@ -290,7 +380,10 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   SemiregResult result;
   TriangleMesh& remesh = result.remesh;
   remesh = semiregular_mesh(base, o.levels, [&](int f, const Eigen::Vector3d& bary) {
-    const auto s = sampler.surface_point(f, bary);
+    // On an open surface: the base face's piece of the closed domain.
+    const auto [face, at] =
+        open ? chosen_bounded->locate(f, bary) : std::pair<int, Eigen::Vector3d>{f, bary};
+    const auto s = sampler.surface_point(face, at);
     if (!s) throw std::runtime_error("a sample fell outside the map");
     return s->position;
   });
@@ -310,7 +403,8 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   });
 
   run.stage("measure");
-  const MapMeasures m = map.measures();
+  const std::vector<char> on_input = input_faces.of(map);
+  const MapMeasures m = map.measures(on_input);
   const SurfaceDistance distance = surface_distance(surface, remesh);
   Json& r = run.report();
   r["levels"] = o.levels;
@@ -322,6 +416,22 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   const std::size_t flipped = flipped_faces(remesh);
   sj["flipped_triangles"] = flipped;
   r["distance"] = distance_report(distance);
+  if (open) {
+    Json& b = r["boundary"];
+    b["loops"] = capped.loops.size();
+    b["base_boundary_points"] = chosen_bounded->boundary_points;
+    double cap_area = 0, total_area = 0;
+    for (std::size_t f = 0; f < capped.mesh.n_faces(); ++f) {
+      const Triangle& t = capped.mesh.triangles[f];
+      const double a = 0.5 * (capped.mesh.positions[t[1]] - capped.mesh.positions[t[0]])
+                                 .cross(capped.mesh.positions[t[2]] - capped.mesh.positions[t[0]])
+                                 .norm();
+      total_area += a;
+      if (capped.is_cap_face(f)) cap_area += a;
+    }
+    b["cap_area_fraction"] = total_area > 0 ? cap_area / total_area : 0.0;
+    b["remesh_loops"] = boundary_loops(remesh).size();
+  }
   run.note((o.output.empty() ? input : o.output) + ": " + std::to_string(remesh.n_faces()) +
            " faces (" + std::to_string(base.n_faces()) + " base faces, level " +
            std::to_string(o.levels) + "); map efficiency " + fixed(m.forward_efficiency, 3) +

@@ -84,6 +84,31 @@ ProgressiveMesh simplify_constrained(const PathNetwork& network, const TriangleM
 ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertices,
                             const SimplifyOptions& options = {});
 
+/// simplify_to() for a surface whose boundary loops are capped
+/// (cap_boundary_loops(), a fan per loop): the loop centres stay and each
+/// loop is kept as a closed path of at least 3 vertices (its vertices
+/// collapse only into their loop neighbours), so dropping the faces at the
+/// centres from the base leaves a base with the surface's loops, every base
+/// vertex a vertex of the input. `target_vertices` counts the centres. With
+/// max_loop_span > 0 no base boundary edge spans more than that many edges
+/// of its input loop (the base keeps more loop vertices where needed).
+/// Throws std::runtime_error as simplify_to() does, or for a loop shorter
+/// than 3 or a vertex given twice.
+ProgressiveMesh simplify_capped_to(const TriangleMesh& mesh,
+                                   const std::vector<std::vector<int>>& loops,
+                                   const std::vector<int>& centres, std::size_t target_vertices,
+                                   const SimplifyOptions& options = {},
+                                   std::size_t max_loop_span = 0);
+
+/// The base of simplify_capped_to() without its caps: the faces at the
+/// `centres` last base vertices dropped. Vertex i of `mesh` is input vertex
+/// vertices[i]; the mesh has the capped surface's loops as boundary loops.
+struct UncappedBase {
+  TriangleMesh mesh;
+  std::vector<int> vertices;
+};
+UncappedBase uncapped_base(const ProgressiveMesh& pm, std::size_t centres);
+
 /// Progressive meshes of two surfaces to one base (paper §3 step 2): the
 /// constrained simplification of each network. Base vertex i of both is
 /// features[i] (base_vertices[i] = features[i].vertex[s]) and both bases

@@ -166,6 +166,11 @@ class Simplifier {
   /// describe paths of `domain`'s edges cutting the surface into its faces.
   void constrain(const PathNetwork& network, const TriangleMesh& domain);
 
+  /// Keeps `centres` and makes each loop a closed path: a loop vertex
+  /// collapses only into a loop neighbour, and a loop keeps three vertices.
+  void hold_loops(const std::vector<std::vector<int>>& loops, const std::vector<int>& centres,
+                  std::size_t max_span);
+
   /// Collapses until `target` vertices remain or nothing legal is left.
   void run(std::size_t target, const SimplifyOptions& options);
 
@@ -258,6 +263,16 @@ class Simplifier {
   bool network_allows(int vs, int vt, int vl, int vr) const {
     if (kind_[vs] == Kind::feature) return false;
     if (kind_[vs] == Kind::path && vt != path_prev_[vs] && vt != path_next_[vs]) return false;
+    if (max_span_ && kind_[vs] == Kind::path && loop_position_[vs] >= 0) {
+      // The loop edge left behind, from vs's other loop neighbour to vt,
+      // spans at most max_span_ edges of the input loop.
+      const bool forward = vt == path_next_[vs];
+      const int other = forward ? path_prev_[vs] : path_next_[vs];
+      const int n = loop_size_[vs];
+      const int span = forward ? (loop_position_[vt] - loop_position_[other] + n) % n
+                               : (loop_position_[other] - loop_position_[vt] + n) % n;
+      if (std::size_t(span) > max_span_) return false;
+    }
     for (int x : {vl, vr})
       if (is_path_edge(vs, x) && is_path_edge(vt, x)) return false;
     return true;
@@ -360,6 +375,10 @@ class Simplifier {
   // (min, max) joined by a path of one edge.
   std::vector<Kind> kind_;
   std::vector<int> path_prev_, path_next_;
+  // hold_loops(): each loop vertex's position in its input loop, the loop's
+  // size, and the longest loop edge a collapse may leave (0: any).
+  std::vector<int> loop_position_, loop_size_;
+  std::size_t max_span_ = 0;
   std::set<std::pair<int, int>> direct_paths_;
 
   std::vector<std::uint8_t> alive_;
@@ -512,6 +531,32 @@ void Simplifier::constrain(const PathNetwork& network, const TriangleMesh& domai
   if (surface_chi != domain_chi)
     fail("the surface (Euler characteristic " + std::to_string(surface_chi) + ") and the domain (" +
          std::to_string(domain_chi) + ") have different topology");
+}
+
+void Simplifier::hold_loops(const std::vector<std::vector<int>>& loops,
+                            const std::vector<int>& centres, std::size_t max_span) {
+  max_span_ = max_span;
+  loop_position_.assign(positions_.size(), -1);
+  loop_size_.assign(positions_.size(), 0);
+  const int nv = static_cast<int>(positions_.size());
+  auto check = [&](int v) {
+    if (v < 0 || v >= nv || kind_[v] != Kind::interior)
+      throw std::runtime_error("simplify_capped_to: vertex " + std::to_string(v) +
+                               " is out of range or held twice");
+  };
+  for (int c : centres) check(c), kind_[c] = Kind::feature;
+  for (const std::vector<int>& loop : loops) {
+    if (loop.size() < 3) throw std::runtime_error("simplify_capped_to: a loop of fewer than 3");
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const int v = loop[i];
+      check(v);
+      kind_[v] = Kind::path;
+      loop_position_[v] = int(i);
+      loop_size_[v] = int(loop.size());
+      path_prev_[v] = loop[(i + loop.size() - 1) % loop.size()];
+      path_next_[v] = loop[(i + 1) % loop.size()];
+    }
+  }
 }
 
 void Simplifier::evaluate(int vs) {
@@ -700,6 +745,35 @@ ProgressiveMesh simplify_constrained(const PathNetwork& network, const TriangleM
     base_faces[p] = want;
   }
   return assemble(simplifier, surface, std::move(base_faces), network.features);
+}
+
+ProgressiveMesh simplify_capped_to(const TriangleMesh& mesh,
+                                   const std::vector<std::vector<int>>& loops,
+                                   const std::vector<int>& centres, std::size_t target_vertices,
+                                   const SimplifyOptions& options, std::size_t max_loop_span) {
+  Simplifier simplifier(mesh);
+  simplifier.hold_loops(loops, centres, max_loop_span);
+  simplifier.run(target_vertices, options);
+
+  std::vector<Triangle> base_faces;
+  for (int f : simplifier.alive_faces()) base_faces.push_back(simplifier.face(f));
+  std::vector<int> base_vertices;
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    if (simplifier.alive(static_cast<int>(v))) base_vertices.push_back(static_cast<int>(v));
+  return assemble(simplifier, mesh, std::move(base_faces), std::move(base_vertices));
+}
+
+UncappedBase uncapped_base(const ProgressiveMesh& pm, std::size_t centres) {
+  UncappedBase out{base_mesh(pm), pm.base_vertices};
+  if (centres > out.vertices.size())
+    throw std::invalid_argument("uncapped_base: more centres than base vertices");
+  const std::size_t kept = out.vertices.size() - centres;
+  std::erase_if(out.mesh.triangles, [&](const Triangle& t) {
+    return std::size_t(std::max({t[0], t[1], t[2]})) >= kept;
+  });
+  out.mesh.positions.resize(kept);
+  out.vertices.resize(kept);
+  return out;
 }
 
 ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertices,

@@ -113,17 +113,28 @@ bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMe
     const auto it = third.find(edge_key(m, x));
     return it == third.end() ? -1 : it->second;
   };
+  auto previous = [&](int m, int x) -> int {  // neighbour of m before x
+    const auto it = third.find(edge_key(x, m));
+    return it == third.end() ? -1 : it->second;
+  };
   // Vertex across the odd vertex m from v: three steps around m, whose
-  // one-ring must close after six.
+  // one-ring must close after six; on a boundary edge (an open fan of four
+  // around m), the fan's other end.
   auto across = [&](int v, int m) -> int {
     int ring[6];
     int x = v;
     for (int s = 0; s < 6; ++s) {
       ring[s] = x;
       x = next(m, x);
-      if (x < 0) return -1;
+      if (x < 0) break;
     }
-    return x == v ? ring[3] : -1;
+    if (x >= 0) return x == v ? ring[3] : -1;
+    // Open: v must be one end of a fan v, o, o, w.
+    if (previous(m, v) >= 0 && next(m, v) >= 0) return -1;
+    int ends = 0, far = v, count = 1;
+    for (int y = v; (y = next(m, y)) >= 0 && count <= 4;) far = y, ++count, ends |= 1;
+    for (int y = v; (y = previous(m, y)) >= 0 && count <= 4;) far = y, ++count, ends |= 2;
+    return count == 4 && ends != 3 ? far : -1;
   };
   std::vector<std::vector<int>> neighbours(nv);
   for (const Triangle& t : fine.triangles)

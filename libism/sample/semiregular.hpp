@@ -31,7 +31,8 @@ namespace ism {
 ///    comes in row-major order (j outer, i inner).
 /// Triangles: N² per base face, faces in order, counter-clockwise as the
 /// base face. A closed manifold base gives a closed manifold result of the
-/// same genus.
+/// same genus; a base with boundary loops, a result with as many (each base
+/// boundary edge split into N edges).
 TriangleMesh semiregular_mesh(
     const TriangleMesh& base, int levels,
     const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point);
@@ -39,7 +40,8 @@ TriangleMesh semiregular_mesh(
 /// Undoes one level of 1-to-4 subdivision from connectivity alone. The first
 /// `base_vertices` vertices of `fine` must be vertices of the coarse mesh
 /// (e.g. the base vertices of semiregular_mesh()); the other coarse vertices
-/// are found by walking straight through the valence-6 edge vertices.
+/// are found by walking straight through the valence-6 edge vertices (on a
+/// boundary edge, through its edge vertex's open fan of four).
 /// Succeeds only when `fine` is exactly the 1-to-4 split of a triangle mesh:
 /// then `coarse` holds that mesh, its vertices being the even vertices of
 /// `fine` in increasing index order (so the first `base_vertices` keep their

@@ -78,15 +78,15 @@ def test_bad_mesh_raises_value_error_with_the_tools_message(tmp_path):
     with open(open_mesh, "w") as f:
         f.writelines(f"v {x!r} {y!r} {z!r}\n" for x, y, z in V)
         f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F[1:])
-    status, _, err = run_tool("semireg", open_mesh, "-o", tmp_path / "x.obj", "--base-size", "20")
+    status, _, err = run_tool("torus-remesh", open_mesh, "-o", tmp_path / "x.obj")
     assert status == 1
     message = err.strip()
-    assert message.startswith(f"{open_mesh}: 1 boundary loop, semireg needs a closed surface")
+    assert message.startswith(f"{open_mesh}: 1 boundary loop, torus-remesh needs a closed surface")
     with pytest.raises(ValueError) as raised:
-        ism.semireg(open_mesh, base_size=20)
+        ism.torus_remesh(open_mesh)
     assert str(raised.value) == message
-    with pytest.raises(ValueError, match=r"^\(V, F\): 1 boundary loop, semireg needs a closed"):
-        ism.semireg(V, F[1:], base_size=20)
+    with pytest.raises(ValueError, match=r"^\(V, F\): 1 boundary loop, torus-remesh needs a closed"):
+        ism.torus_remesh(V, F[1:])
     with pytest.raises(ValueError, match="genus 0, torus-remesh needs genus 1"):
         ism.torus_remesh(V, F)
     assert not (tmp_path / "x.obj").exists()

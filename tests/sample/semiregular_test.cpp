@@ -103,6 +103,50 @@ TEST(Semiregular, TorusBaseKeepsItsGenus) {
   expect_exact_subdivision(base, mesh, 3);
 }
 
+// A base with boundary: the octahedron without two faces (two loops of
+// three edges, or one of four when the faces share an edge).
+TEST(Semiregular, OpenBasesKeepTheirLoopsAndUnsubdivideExactly) {
+  const TriangleMesh octahedron = domain::octahedron();
+  auto shared = [&](int f, int g) {
+    int n = 0;
+    for (int v : octahedron.triangles[f])
+      n += int(std::count(octahedron.triangles[g].begin(), octahedron.triangles[g].end(), v));
+    return n;
+  };
+  // Face 0 and a face with no vertex in common; face 0 and one across an edge.
+  int far = -1, near = -1;
+  for (int g = 1; g < 8; ++g) {
+    if (shared(0, g) == 0) far = g;
+    if (shared(0, g) == 2) near = g;
+  }
+  ASSERT_GE(far, 0);
+  ASSERT_GE(near, 0);
+  for (const std::vector<int>& removed : {std::vector<int>{0, far}, std::vector<int>{0, near}}) {
+    TriangleMesh base = octahedron;
+    for (auto it = removed.rbegin(); it != removed.rend(); ++it)
+      base.triangles.erase(base.triangles.begin() + *it);
+    const MeshCheck b = check_of(base);
+    ASSERT_TRUE(b.valid_surface());
+    ASSERT_GT(b.boundary_loops, 0u);
+    for (int levels = 1; levels <= 3; ++levels) {
+      SCOPED_TRACE(levels);
+      const TriangleMesh mesh = semiregular_mesh(
+          base, levels, [&](int f, const Eigen::Vector3d& w) { return flat_point(base, f, w); });
+      const MeshCheck c = check_of(mesh);
+      EXPECT_TRUE(c.valid_surface());
+      EXPECT_EQ(c.boundary_loops, b.boundary_loops);
+      EXPECT_EQ(c.genus, 0);
+      expect_exact_subdivision(base, mesh, levels);
+    }
+    // Without its last face the mesh is no subdivision any more.
+    TriangleMesh mesh = semiregular_mesh(
+        base, 1, [&](int f, const Eigen::Vector3d& w) { return flat_point(base, f, w); });
+    mesh.triangles.pop_back();
+    TriangleMesh coarse;
+    EXPECT_FALSE(unsubdivide(mesh, base.n_vertices(), coarse));
+  }
+}
+
 TEST(Semiregular, UnsubdivideRefusesMeshesThatAreNotSubdivisions) {
   const TriangleMesh base = domain::octahedron();
   TriangleMesh coarse;

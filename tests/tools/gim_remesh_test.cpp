@@ -19,6 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ism::test::check_of;
+using ism::test::distance_to_faces;
 using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
@@ -156,41 +157,6 @@ TEST(GimRemesh, UnsuitableSurfacesAreRefusedWithoutOutput) {
   EXPECT_EQ(bad_size.status, 1);
   EXPECT_NE(bad_size.err.find("2^k+1"), std::string::npos);
   EXPECT_FALSE(fs::exists(out));
-}
-
-// Distance from p to triangle abc (closest point by Voronoi regions of the
-// triangle, Ericson, Real-Time Collision Detection, 5.1.5).
-double point_triangle_distance(const ism::Vec3& p, const ism::Vec3& a, const ism::Vec3& b,
-                               const ism::Vec3& c) {
-  const ism::Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
-  const ism::Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
-  const ism::Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
-  const double denom = 1 / (va + vb + vc);
-  return (p - (a + ab * vb * denom + ac * vc * denom)).norm();
-}
-
-double distance_to_faces(const ism::Vec3& p, const ism::TriangleMesh& mesh, std::size_t first,
-                         std::size_t last) {
-  double d = INFINITY;
-  for (std::size_t f = first; f < last; ++f) {
-    const auto& t = mesh.triangles[f];
-    d = std::min(d, point_triangle_distance(p, mesh.positions[t[0]], mesh.positions[t[1]],
-                                            mesh.positions[t[2]]));
-  }
-  return d;
 }
 
 // An open genus-0 surface: its holes are capped and mapped with it; the

@@ -3,13 +3,17 @@
 // (undone level by level from the written file alone), and clean refusals of
 // unsuitable bases.
 #include "io/io.hpp"
+#include "mesh/boundary.hpp"
 #include "mesh/mesh_check.hpp"
 #include "metrics/metrics.hpp"
+#include "open_surfaces.hpp"
 #include "sample/semiregular.hpp"
 #include "test_support.hpp"
 #include "tools_support.hpp"
 
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <fstream>
@@ -255,5 +259,125 @@ TEST(Semireg, BadOptionsAreRefused) {
             0);
   EXPECT_FALSE(fs::exists(out));
 }
+
+// An open surface: the map takes its boundary onto the base's boundary
+// edges, so the remesh is open with the input's loops, has exact subdivision
+// connectivity down to the written base (boundary edges included), and lies
+// on the input with its boundary on the input's boundary.
+void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::path& base,
+                        const fs::path& report, int levels) {
+  const ism::TriangleMesh surface = read_triangles(input), fine = read_triangles(out),
+                          coarse_base = read_triangles(base);
+  const std::size_t loops = ism::boundary_loops(surface).size();
+  const ism::MeshCheck c = check_of(out), b = check_of(base);
+  EXPECT_TRUE(c.valid_surface()) << (c.defects().empty() ? "" : c.defects().front());
+  EXPECT_EQ(c.boundary_loops, loops);
+  EXPECT_EQ(b.boundary_loops, loops);
+  EXPECT_EQ(c.genus, check_of(input).genus);
+  EXPECT_EQ(c.faces, b.faces << (2 * levels));
+  EXPECT_EQ(c.welded_vertices, 0u);
+  // Folds: a few triangles at the boundary (at most 1 in 500; closed
+  // surfaces have none), see docs/results-open-surfaces.md.
+  EXPECT_LE(ism::flipped_faces(fine) * 500, fine.n_faces());
+  ism::TriangleMesh mesh = fine;
+  for (int level = levels; level > 0; --level) {
+    ism::TriangleMesh coarser;
+    ASSERT_TRUE(ism::unsubdivide(mesh, coarse_base.n_vertices(), coarser)) << "level " << level;
+    mesh = std::move(coarser);
+  }
+  EXPECT_EQ(canonical_faces(mesh), canonical_faces(coarse_base));
+
+  // On the input (OBJ keeps 6 to 9 digits: 1e-6 of the diagonal).
+  const double diagonal = ism::bounding_box_diagonal(surface), tolerance = 1e-6 * diagonal;
+  for (std::size_t v = 0; v < fine.n_vertices(); v += 7)
+    EXPECT_LT(ism::test::distance_to_faces(fine.positions[v], surface, 0, surface.n_faces()),
+              tolerance)
+        << "vertex " << v;
+  std::vector<std::array<ism::Vec3, 2>> edges;
+  for (const auto& loop : ism::boundary_loops(surface))
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      edges.push_back({surface.positions[loop[k]], surface.positions[loop[(k + 1) % loop.size()]]});
+  for (const auto& loop : ism::boundary_loops(fine))
+    for (int v : loop) {
+      const ism::Vec3& p = fine.positions[v];
+      double d = INFINITY;
+      for (const auto& [a, e] : edges) {
+        const double t = std::clamp((p - a).dot(e - a) / (e - a).squaredNorm(), 0.0, 1.0);
+        d = std::min(d, (a + t * (e - a) - p).norm());
+      }
+      EXPECT_LT(d, tolerance) << "boundary vertex " << v;
+    }
+
+  const auto json = nlohmann::json::parse(slurp(report));
+  EXPECT_EQ(json["map"]["valid"], true);
+  EXPECT_EQ(json["boundary"]["loops"], loops);
+  EXPECT_EQ(json["boundary"]["remesh_loops"], loops);
+  EXPECT_GT(json["boundary"]["cap_area_fraction"].get<double>(), 0.0);
+  EXPECT_GT(json["map"]["efficiency_domain_to_surface"].get<double>(), 0.5);
+  EXPECT_GT(json["distance"]["psnr_db"].get<double>(), 50.0);
+}
+
+TEST(Semireg, OpenSurfaceKeepsItsBoundary) {
+  const fs::path dir = scratch_dir("semireg_open");
+  const fs::path sphere = dir / "sphere.obj", open = dir / "open.obj", out = dir / "open_sr.obj",
+                 base = dir / "open_base.obj", report = dir / "open.json",
+                 again = dir / "open_again.obj", again_report = dir / "open_again.json",
+                 closed_base = dir / "closed_base.obj", refused = dir / "refused.obj";
+  ASSERT_EQ(run_tool("ism-genmesh", "sphere --faces 3000 -o " + sphere.string()).status, 0);
+  // Open at the top and at one side: two loops.
+  ism::io::write_mesh(ism::test::keep_faces(read_triangles(sphere),
+                                            [](const ism::Vec3& c) {
+                                              return c.z() < 0.6 &&
+                                                     (c - ism::Vec3(0.9, 0, 0)).norm() > 0.4;
+                                            }),
+                      open);
+  const auto r = run_tool("semireg", open.string() + " -o " + out.string() +
+                                         " --base-size 30 --levels 3 --write-base " +
+                                         base.string() + " --report " + report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_open_remesh(open, out, base, report, 3);
+
+  // The written base given back: its loops lie on the surface's.
+  const auto r2 =
+      run_tool("semireg", open.string() + " -o " + again.string() + " --base " + base.string() +
+                              " --levels 2 --report " + again_report.string() + " -q");
+  ASSERT_EQ(r2.status, 0) << r2.err;
+  expect_open_remesh(open, again, base, again_report, 2);
+
+  // A closed base for an open surface, base vertices alone: one line each.
+  ASSERT_EQ(run_tool("semireg", sphere.string() + " -o " + refused.string() +
+                                    " --base-size 20 --levels 0 --write-base " +
+                                    closed_base.string() + " -q")
+                .status,
+            0);
+  expect_refused(
+      open.string() + " --base " + closed_base.string(), refused, closed_base.string(),
+      "the base has 0 boundary loops, the surface " + open.string() + " has 2 boundary loops");
+  {
+    std::ofstream f(dir / "vertices.txt");
+    f << "0\n100\n200\n300\n400\n";
+  }
+  expect_refused(open.string() + " --base-vertices " + (dir / "vertices.txt").string(), refused,
+                 open.string(), "--base-vertices needs a closed surface");
+}
+
+// The models with holes of ../shared: the same properties.
+class SemiregOpenModel : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SemiregOpenModel, BoundaryOnTheInputsBoundary) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const std::string name = GetParam();
+  const fs::path dir = scratch_dir("semireg_open");
+  const fs::path input = ism::test::shared_models_dir() / (name + ".obj");
+  const fs::path out = dir / (name + "_sr.obj"), base = dir / (name + "_base.obj"),
+                 report = dir / (name + ".json");
+  const auto r = run_tool("semireg", input.string() + " -o " + out.string() +
+                                         " --base-size 50 --levels 3 --write-base " +
+                                         base.string() + " --report " + report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  expect_open_remesh(input, out, base, report, 3);
+}
+
+INSTANTIATE_TEST_SUITE_P(OpenModels, SemiregOpenModel, ::testing::Values("head_3holes", "venus"));
 
 }  // namespace
