@@ -32,8 +32,8 @@ using namespace partition_detail;
 using Mesh = TracerMesh;
 
 // The tracer gives up when its mesh grows beyond this many times the
-// surface's vertices (plus 100000): see NetworkTracer::run().
-constexpr std::size_t kMaxSteinerFactor = 10;
+// surface's vertices (plus 20000): see NetworkTracer::run().
+constexpr std::size_t kMaxSteinerFactor = 3;
 using VH = Mesh::VertexHandle;
 using HH = Mesh::HalfedgeHandle;
 
@@ -585,7 +585,7 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
       // Paths that wind around each other need Steiner vertices without
       // end (each one runs beside the last at twice its density): stop
       // cleanly instead of exhausting memory.
-      if (mesh_.n_vertices() > kMaxSteinerFactor * original_vertices_ + 100000)
+      if (mesh_.n_vertices() > kMaxSteinerFactor * original_vertices_ + 20000)
         throw PartitionError(
             "the network needed over " + std::to_string(mesh_.n_vertices() - original_vertices_) +
             " Steiner vertices (paths winding around each other) after " + std::to_string(traced_) +
