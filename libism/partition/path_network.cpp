@@ -34,6 +34,8 @@ using Mesh = TracerMesh;
 // The tracer gives up when its mesh grows beyond this many times the
 // surface's vertices (plus 20000): see NetworkTracer::run().
 constexpr std::size_t kMaxSteinerFactor = 3;
+// Cost factor of a step next to a given edge's end (NetworkTracer::given_end_).
+constexpr double kNearGivenPenalty = 10.0;
 using VH = Mesh::VertexHandle;
 using HH = Mesh::HalfedgeHandle;
 
@@ -86,6 +88,8 @@ class NetworkTracer {
                              std::to_string(fb.idx()) + " are not joined by an edge");
       direct_[it->second] = 1;
       reserved_.insert(undirected_key(fa.idx(), fb.idx()));
+      if (given_end_.size() < mesh_.n_vertices()) given_end_.resize(mesh_.n_vertices(), 0);
+      given_end_[fa.idx()] = given_end_[fb.idx()] = 1;
     }
     std::size_t used = 0;  // vertices that faces use: isolated ones do not count
     for (VH v : mesh_.vertices()) used += !mesh_.is_isolated(v);
@@ -105,6 +109,7 @@ class NetworkTracer {
   std::optional<Candidate> shortest_path(int e);
   std::optional<Candidate> shortest_path_in_class(int e);
   bool still_valid(const Candidate& c);
+  bool near_given_end(VH w, VH source, VH target) const;
   int side_of(const std::vector<int>& path, int feature);
   bool on_wrong_side(const Candidate& c);
   void find_extremities();
@@ -125,6 +130,13 @@ class NetworkTracer {
   std::vector<std::vector<int>> paths_;
   std::vector<char> direct_;                    // per domain edge: its path is one given edge
   std::unordered_set<std::uint64_t> reserved_;  // those surface edges: never split
+  // Surface vertices at the ends of given edges (a boundary and its cap):
+  // traced paths pay kNearGivenPenalty for a step onto a vertex next to one
+  // of them other than their own ends, so that they leave the boundary
+  // instead of running along it (a path hugging the boundary cuts the
+  // boundary points beyond it off, and each next path then runs beside it
+  // at twice the Steiner density).
+  std::vector<char> given_end_;
   bool swirl_heuristics_ = false;
   std::vector<char> extremity_;  // per feature: far from its nearest features
   // Homotopy guide (empty without one): torus points in [0, 1)² per mesh
@@ -215,6 +227,14 @@ std::vector<char> NetworkTracer::allowed_ring(int i, int j) {
   return allowed;
 }
 
+bool NetworkTracer::near_given_end(VH w, VH source, VH target) const {
+  for (VH u : mesh_.vv_range(w))
+    if (u != source && u != target && std::size_t(u.idx()) < given_end_.size() &&
+        given_end_[u.idx()])
+      return true;
+  return false;
+}
+
 // A* (Euclidean heuristic) from feature a to feature b of domain edge e,
 // through free vertices only, leaving and entering in the right sectors.
 std::optional<Candidate> NetworkTracer::shortest_path(int e) {
@@ -261,7 +281,10 @@ std::optional<Candidate> NetworkTracer::shortest_path(int e) {
       } else if (on_network_[wi]) {
         continue;
       }
-      const double dw = dv + (mesh_.point(w) - mesh_.point(v)).norm();
+      double step = (mesh_.point(w) - mesh_.point(v)).norm();
+      if (!given_end_.empty() && w != target && near_given_end(w, source, target))
+        step *= kNearGivenPenalty;
+      const double dw = dv + step;
       if (stamp_[wi] != search_ || dw < distance_[wi]) {
         stamp_[wi] = search_;
         distance_[wi] = dw;
