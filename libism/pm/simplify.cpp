@@ -708,6 +708,17 @@ ProgressiveMesh assemble(const Simplifier& simplifier, const TriangleMesh& mesh,
   return pm;
 }
 
+// The progressive mesh down to whatever the simplifier left: the remaining
+// faces, the remaining vertices in increasing index order.
+ProgressiveMesh assemble_remaining(const Simplifier& simplifier, const TriangleMesh& mesh) {
+  std::vector<Triangle> base_faces;
+  for (int f : simplifier.alive_faces()) base_faces.push_back(simplifier.face(f));
+  std::vector<int> base_vertices;
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    if (simplifier.alive(static_cast<int>(v))) base_vertices.push_back(static_cast<int>(v));
+  return assemble(simplifier, mesh, std::move(base_faces), std::move(base_vertices));
+}
+
 }  // namespace
 
 ProgressiveMesh simplify_constrained(const PathNetwork& network, const TriangleMesh& domain,
@@ -755,12 +766,7 @@ ProgressiveMesh simplify_capped_to(const TriangleMesh& mesh,
   simplifier.hold_loops(loops, centres, max_loop_span);
   simplifier.run(target_vertices, options);
 
-  std::vector<Triangle> base_faces;
-  for (int f : simplifier.alive_faces()) base_faces.push_back(simplifier.face(f));
-  std::vector<int> base_vertices;
-  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-    if (simplifier.alive(static_cast<int>(v))) base_vertices.push_back(static_cast<int>(v));
-  return assemble(simplifier, mesh, std::move(base_faces), std::move(base_vertices));
+  return assemble_remaining(simplifier, mesh);
 }
 
 UncappedBase uncapped_base(const ProgressiveMesh& pm, std::size_t centres) {
@@ -781,12 +787,7 @@ ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertice
   Simplifier simplifier(mesh);
   simplifier.run(target_vertices, options);
 
-  std::vector<Triangle> base_faces;
-  for (int f : simplifier.alive_faces()) base_faces.push_back(simplifier.face(f));
-  std::vector<int> base_vertices;
-  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-    if (simplifier.alive(static_cast<int>(v))) base_vertices.push_back(static_cast<int>(v));
-  return assemble(simplifier, mesh, std::move(base_faces), std::move(base_vertices));
+  return assemble_remaining(simplifier, mesh);
 }
 
 }  // namespace ism
