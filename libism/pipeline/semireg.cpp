@@ -69,14 +69,15 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Semire
   run.stage("snap base");
   // An open surface wants a base with as many loops (each boundary vertex of
   // the base snaps onto the surface's boundary, each interior one inside).
-  const std::size_t base_loops = boundary_loops(base).size();
+  const std::vector<std::vector<int>> loops = boundary_loops(base);
+  const std::size_t base_loops = loops.size();
   if (base_loops != capped.loops.size())
     throw tool::Failure(base_name + ": the base has " + loops_word(base_loops) + ", the surface " +
                         o.input.path + " has " + loops_word(capped.loops.size()));
   std::vector<char> surface_boundary(surface.n_vertices(), 0), base_boundary(base.n_vertices(), 0);
   for (const auto& loop : capped.loops)
     for (int v : loop) surface_boundary[v] = 1;
-  for (const auto& loop : boundary_loops(base))
+  for (const auto& loop : loops)
     for (int v : loop) base_boundary[v] = 1;
   const int surface_genus = genus_of(surface), base_genus = genus_of(base);
   if (base_genus != surface_genus)
