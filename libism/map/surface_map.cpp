@@ -497,17 +497,23 @@ std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
     poly = std::move(out);
   }
   if (poly.size() < 3) return std::nullopt;
+  // The centroid relative to a corner of the kernel: in absolute coordinates
+  // a kernel much smaller than its distance to the origin loses every digit
+  // (a thin kernel's centroid then falls outside it).
+  const Vec2 origin = poly[0];
   Vec2 c = Vec2::Zero();
   double area = 0;
-  for (std::size_t k = 0; k < poly.size(); ++k) {
-    const Vec2& p = poly[k];
-    const Vec2& q = poly[(k + 1) % poly.size()];
+  for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+    const Vec2 p = poly[k] - origin, q = poly[k + 1] - origin;
     const double w = p.x() * q.y() - p.y() * q.x();
     area += w;
     c += w * (p + q);
   }
   if (!(area > 0)) return std::nullopt;
-  return c / (3 * area);
+  c = origin + c / (3 * area);
+  for (std::size_t i = 0; i < m; ++i)
+    if (!(orient(c, ring[i], ring[(i + 1) % m]) > 0)) return std::nullopt;
+  return c;
 }
 
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,

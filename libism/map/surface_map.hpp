@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -133,6 +134,13 @@ struct DiscLayout {
   std::vector<std::array<std::array<Vec2, 3>, 3>> walk_layout;
 };
 
+/// SurfaceMap::split_next() found no valid position for the new vertex;
+/// the map is unchanged.
+class SplitBlocked : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class SurfaceMap {
  public:
   /// The trivial map between the base mesh of `pm` and the domain: base
@@ -156,8 +164,15 @@ class SurfaceMap {
 
   /// Applies the next vertex split of the progressive mesh, embedding the
   /// new vertex inside the old one-ring. Returns the new vertex, or -1 when
-  /// the surface is fully refined.
+  /// the surface is fully refined. Throws SplitBlocked, the map unchanged,
+  /// when the split's one-ring leaves the new vertex no valid position (a
+  /// neighbourhood squeezed flat: re-embed it, e.g. reembed_disc() around
+  /// next_split_vertex(), and retry); std::runtime_error on other failures.
   int split_next();
+  /// The vertex the next split splits (its vt), or -1 when fully refined.
+  int next_split_vertex() const {
+    return next_split_ < pm_.splits.size() ? pm_.splits[next_split_].vt : -1;
+  }
 
   /// Moves vertex v inside the kernel of its one-ring to lower the symmetric
   /// energy; returns the energy decrease (0 when it did not move).

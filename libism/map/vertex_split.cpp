@@ -45,7 +45,7 @@ int SurfaceMap::split_next() {
   std::vector<Vec2> polygon(ring.positions.begin(), ring.positions.begin() + last + 1);
   polygon.push_back(pt);
   const std::optional<Vec2> kernel = kernel_centroid(polygon);
-  if (!kernel) throw std::runtime_error(where + ": no valid position for the new vertex");
+  if (!kernel) throw SplitBlocked(where + ": no valid position for the new vertex");
   Vec2 ps = *kernel;
   // Locate vs in M¹: from vt's position, in the face holding direction d.
   int face = ring.centre_face;
@@ -118,7 +118,7 @@ int SurfaceMap::split_onto_cone(const Ring& fan, std::size_t last, const std::st
   std::vector<Vec2> polygon(ring.positions.begin(), ring.positions.begin() + j + 1);
   polygon.push_back(Vec2::Zero());
   const std::optional<Vec2> kernel = kernel_centroid(polygon);
-  if (!kernel) throw std::runtime_error(where + ": no valid position for the split vertex");
+  if (!kernel) throw SplitBlocked(where + ": no valid position for the split vertex");
   Vec2 p = *kernel;
   int face = ring.centre_face;
   std::array<Vec2, 3> layout = ring.centre_layout;

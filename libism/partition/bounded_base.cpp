@@ -28,9 +28,10 @@ double smallest_angle(const P2& a, const P2& b, const P2& c) {
   return std::min({angle(a, b, c), angle(b, c, a), angle(c, a, b)});
 }
 
-// A triangulation of a convex polygon (counter-clockwise) whose sides may
+// A triangulation of a simple polygon (counter-clockwise) whose sides may
 // carry collinear points, with no degenerate triangle and no new point:
-// ears clipped best-shaped first, never leaving an all-collinear rest.
+// ears clipped best-shaped first, an ear being a convex corner whose
+// triangle holds no other corner, never leaving an all-collinear rest.
 std::vector<std::array<int, 3>> clip_ears(const std::vector<P2>& p) {
   const double scale = [&] {
     double s = 0;
@@ -49,6 +50,16 @@ std::vector<std::array<int, 3>> clip_ears(const std::vector<P2>& p) {
     for (std::size_t i = 0; i < q.size(); ++i) count += turns(q, i);
     return count;
   };
+  // No other corner of q inside or on the triangle (a, b, c).
+  auto empty = [&](const std::vector<int>& q, int a, int b, int c) {
+    for (int v : q) {
+      if (v == a || v == b || v == c) continue;
+      if (cross2(p[a], p[b], p[v]) >= -eps && cross2(p[b], p[c], p[v]) >= -eps &&
+          cross2(p[c], p[a], p[v]) >= -eps)
+        return false;
+    }
+    return true;
+  };
   std::vector<std::array<int, 3>> out;
   while (poly.size() > 3) {
     const std::size_t n = poly.size();
@@ -56,11 +67,13 @@ std::vector<std::array<int, 3>> clip_ears(const std::vector<P2>& p) {
     double best_angle = -1;
     for (std::size_t i = 0; i < n; ++i) {
       if (!turns(poly, i)) continue;
+      const int a = poly[(i + n - 1) % n], b = poly[i], c = poly[(i + 1) % n];
+      if (!empty(poly, a, b, c)) continue;
       std::vector<int> rest = poly;
       rest.erase(rest.begin() + std::ptrdiff_t(i));
       if (corners(rest) < 3) continue;
-      const double a = smallest_angle(p[poly[(i + n - 1) % n]], p[poly[i]], p[poly[(i + 1) % n]]);
-      if (a > best_angle) best_angle = a, best = i;
+      const double angle = smallest_angle(p[a], p[b], p[c]);
+      if (angle > best_angle) best_angle = angle, best = i;
     }
     if (best == n) throw std::logic_error("bounded_base: no ear to clip");
     out.push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
@@ -80,6 +93,64 @@ P2 corner_point(int k) {
 P2 point_of(const Eigen::Vector3d& bary) {
   return bary[0] * corner_point(0) + bary[1] * corner_point(1) + bary[2] * corner_point(2);
 }
+
+// A boundary edge of the base with this many surface boundary points
+// between its ends gets an inner point fanning to them.
+constexpr std::size_t kInnerFanPoints = 2;
+// The inner point's place in the base face: this fraction of the way from
+// the edge's middle to the opposite corner.
+constexpr double kInnerDepth = 0.3;
+
+// Surface vertices for inner points: an interior vertex of the surface a
+// few rings in from a boundary vertex, not yet any domain vertex's.
+class InnerPointPicker {
+ public:
+  InnerPointPicker(const TriangleMesh& surface, const CappedMesh& capped,
+                   const std::vector<int>& features)
+      : surface_(surface),
+        neighbours_(capped.input_vertices),
+        used_(surface.n_vertices(), 0),
+        boundary_(surface.n_vertices(), 0) {
+    for (std::size_t f = 0; f < capped.input_faces; ++f) {
+      const Triangle& t = surface.triangles[f];
+      for (int k = 0; k < 3; ++k) neighbours_[t[k]].push_back(t[(k + 1) % 3]);
+    }
+    for (const auto& loop : capped.loops)
+      for (int v : loop) boundary_[v] = 1;
+    for (int v : features) used_[v] = 1;
+  }
+
+  /// An unused interior vertex at kRings rings from boundary vertex b (or
+  /// the deepest reachable), the one of its ring nearest to b; -1 if none.
+  /// The vertex is then used.
+  int pick(int b) {
+    std::vector<int> layer{b}, seen{b};
+    int best = -1;
+    for (int ring = 1; ring <= kRings && !layer.empty(); ++ring) {
+      std::vector<int> next;
+      for (int v : layer)
+        for (int w : neighbours_[v])
+          if (!boundary_[w] && std::find(seen.begin(), seen.end(), w) == seen.end())
+            next.push_back(w), seen.push_back(w);
+      double nearest = HUGE_VAL;
+      int chosen = -1;
+      for (int w : next) {
+        const double d = (surface_.positions[w] - surface_.positions[b]).norm();
+        if (!used_[w] && d < nearest) nearest = d, chosen = w;
+      }
+      if (chosen >= 0) best = chosen;
+      layer = std::move(next);
+    }
+    if (best >= 0) used_[best] = 1;
+    return best;
+  }
+
+ private:
+  static constexpr int kRings = 2;
+  const TriangleMesh& surface_;
+  std::vector<std::vector<int>> neighbours_;
+  std::vector<char> used_, boundary_;
+};
 
 }  // namespace
 
@@ -224,44 +295,76 @@ BoundedBase bounded_base(const TriangleMesh& base, const std::vector<int>& featu
   }
   out.boundary_points = out.domain.positions.size() - nb;
 
-  // Base faces, triangulated over the points on their boundary edges.
+  // Base faces, triangulated over the points on their boundary edges. An
+  // edge with kInnerFanPoints or more points gets an inner point: a domain
+  // vertex inside the face, a few rings in from the surface boundary's
+  // middle between the edge's ends, which fans to the edge's points. Fanned
+  // from the opposite corner instead, the paths from that corner to
+  // consecutive boundary vertices run side by side over most of the patch,
+  // each splitting the faces the previous ones left (venus_loop2: tracer
+  // meshes of 4x the surface, and maps too thin for double precision).
+  InnerPointPicker picker(surface, capped, out.features);
   out.pieces.resize(base.n_faces());
   for (std::size_t f = 0; f < base.n_faces(); ++f) {
     const Triangle& t = base.triangles[f];
-    std::vector<int> ids;
-    std::vector<Eigen::Vector3d> barys;
+    // The face's points: its corners first, then boundary and inner points;
+    // triangles index them.
+    std::vector<int> ids(t.begin(), t.end());
+    std::vector<Eigen::Vector3d> barys(3, Eigen::Vector3d::Zero());
+    for (int k = 0; k < 3; ++k) barys[k][k] = 1;
+    auto add = [&](int id, const Eigen::Vector3d& b) {
+      ids.push_back(id), barys.push_back(b);
+      return int(ids.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> fans;
+    std::vector<int> rest;  // the polygon left after the inner points' fans
     for (int k = 0; k < 3; ++k) {
       const int x = t[k], y = t[(k + 1) % 3];
-      Eigen::Vector3d ek = Eigen::Vector3d::Zero(), ek1 = Eigen::Vector3d::Zero();
-      ek[k] = 1, ek1[(k + 1) % 3] = 1;
-      ids.push_back(x), barys.push_back(ek);
+      rest.push_back(k);
       // The face holds x -> y, so the boundary runs y -> x.
       const auto it = edge_points.find({y, x});
       if (it == edge_points.end()) continue;
-      for (auto p = it->second.rbegin(); p != it->second.rend(); ++p) {
-        const double s = 1.0 - p->second;  // fraction from x
-        ids.push_back(p->first), barys.push_back((1 - s) * ek + s * ek1);
+      std::vector<int> run{k};  // x, the points from x to y, y
+      for (auto q = it->second.rbegin(); q != it->second.rend(); ++q) {
+        const double s = 1.0 - q->second;  // fraction from x
+        run.push_back(add(q->first, (1 - s) * barys[k] + s * barys[(k + 1) % 3]));
       }
+      run.push_back((k + 1) % 3);
+      const std::size_t points = run.size() - 2;
+      const int inner =
+          points >= kInnerFanPoints ? picker.pick(out.features[ids[run[run.size() / 2]]]) : -1;
+      if (inner < 0) {
+        rest.insert(rest.end(), run.begin() + 1, run.end() - 1);
+        continue;
+      }
+      const Eigen::Vector3d mid = 0.5 * (barys[k] + barys[(k + 1) % 3]);
+      const int d =
+          add(int(out.domain.positions.size()), mid + kInnerDepth * (barys[(k + 2) % 3] - mid));
+      out.domain.positions.push_back(surface.positions[inner]);
+      out.features.push_back(inner);
+      out.fixed.push_back(0);
+      ++out.inner_points;
+      for (std::size_t i = 0; i + 1 < run.size(); ++i) fans.push_back({run[i], run[i + 1], d});
+      rest.push_back(d);
     }
-    if (ids.size() == 3) {
-      const int id = int(out.domain.triangles.size());
-      out.domain.triangles.push_back(t);
-      out.lengths.push_back({1.0, 1.0, 1.0});
-      out.cap_face.push_back(0);
-      out.pieces[f].push_back({id, {barys[0], barys[1], barys[2]}});
-      continue;
-    }
-    std::vector<P2> polygon;
-    for (const auto& b : barys) polygon.push_back(point_of(b));
-    for (const auto& e : clip_ears(polygon)) {
+    auto emit = [&](const std::array<int, 3>& e) {
       const int id = int(out.domain.triangles.size());
       out.domain.triangles.push_back({ids[e[0]], ids[e[1]], ids[e[2]]});
       std::array<double, 3> l;
-      for (int k = 0; k < 3; ++k) l[k] = (polygon[e[(k + 1) % 3]] - polygon[e[k]]).norm();
+      for (int k = 0; k < 3; ++k)
+        l[k] = (point_of(barys[e[(k + 1) % 3]]) - point_of(barys[e[k]])).norm();
       out.lengths.push_back(l);
       out.cap_face.push_back(0);
       out.pieces[f].push_back({id, {barys[e[0]], barys[e[1]], barys[e[2]]}});
+    };
+    for (const auto& tri : fans) emit(tri);
+    if (rest.size() == 3) {
+      emit({rest[0], rest[1], rest[2]});
+      continue;
     }
+    std::vector<P2> polygon;
+    for (int i : rest) polygon.push_back(point_of(barys[i]));
+    for (const auto& e : clip_ears(polygon)) emit({rest[e[0]], rest[e[1]], rest[e[2]]});
   }
 
   // Caps: a fan with equal spokes R per loop, R such that the angles at the

@@ -7,9 +7,11 @@
 // domain vertex, so the surface's boundary vertices become domain vertices:
 // each boundary edge of the base is subdivided at the surface boundary
 // vertices between its two ends (at their arc-length fractions), the base
-// faces that touch the boundary are triangulated over those points (no new
-// interior points), and each loop is capped by a fan around a centre, as the
-// surface's loops are by cap_boundary_loops(). Every boundary point and
+// faces that touch the boundary are triangulated over those points (an edge
+// with several points fans them from an inner point: a domain vertex inside
+// the face at an interior surface vertex near the boundary), and each loop
+// is capped by a fan around a centre, as the surface's loops are by
+// cap_boundary_loops(). Every boundary point and
 // centre is a feature at its surface vertex and must stay there
 // (`fixed`): the boundary edges' paths are then the surface's boundary edges
 // themselves.
@@ -26,7 +28,7 @@ namespace ism {
 
 struct BoundedBase {
   /// Closed: the base's vertices (same indices), then the boundary points,
-  /// then one centre per loop (loop i of `capped`).
+  /// then the inner points, then one centre per loop (loop i of `capped`).
   TriangleMesh domain;
   /// Per domain face, the length of edge (corner k, corner k+1): the base's
   /// faces are unit equilateral triangles and their pieces keep that metric;
@@ -39,8 +41,13 @@ struct BoundedBase {
   std::vector<char> fixed;
   /// Per domain face: 1 on a cap.
   std::vector<char> cap_face;
-  /// Boundary points added (domain vertices that are not base vertices or centres).
+  /// Boundary points added (domain vertices on the surface's boundary that
+  /// are not base vertices).
   std::size_t boundary_points = 0;
+  /// Inner points added: domain vertices inside base faces, at interior
+  /// surface vertices near the boundary, each fanning to the boundary
+  /// points of one base boundary edge. Not fixed.
+  std::size_t inner_points = 0;
 
   /// The edges of the caps (boundary edges and spokes), each once: their
   /// paths are the capped surface's own edges (PartitionOptions::direct_edges).

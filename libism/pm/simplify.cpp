@@ -314,18 +314,25 @@ class Simplifier {
   }
 
   /// Smallest shape quality 4√3·area/Σ|edge|² (1 equilateral, 0 degenerate)
-  /// of the faces that survive the collapse vs -> vt.
+  /// of the faces that survive the collapse vs -> vt, caps' faces (those on
+  /// a centre of hold_loops()) aside: a cap's fan is thin by construction.
   double quality_after(int vs, int vt) const {
     const Vec3& pt = positions_[vt];
     double worst = 1.0;
-    for_each_surviving_face(vs, vt, [&](const Vec3& a, const Vec3& b) {
+    for (int f : vertex_faces_[vs]) {
+      const Triangle& t = faces_[f];
+      if (contains(t, vt) || is_cap_face(t)) continue;
+      const int k = corner_of(t, vs);
+      const Vec3 &a = positions_[t[(k + 1) % 3]], &b = positions_[t[(k + 2) % 3]];
       const double twice_area = (a - pt).cross(b - pt).norm();
       const double lengths =
           (a - pt).squaredNorm() + (b - pt).squaredNorm() + (a - b).squaredNorm();
       worst = std::min(worst, lengths > 0 ? 2.0 * std::sqrt(3.0) * twice_area / lengths : 0.0);
-      return true;
-    });
+    }
     return worst;
+  }
+  bool is_cap_face(const Triangle& t) const {
+    return !centre_.empty() && (centre_[t[0]] || centre_[t[1]] || centre_[t[2]]);
   }
 
   double collapse_cost(int vs, int vt) const {
@@ -368,6 +375,7 @@ class Simplifier {
   double valence_weight_ = 0.0;
   bool valence_from_curvature_ = false;
   std::vector<double> region_area_;       // input surface area each vertex stands for
+  std::vector<char> centre_;              // hold_loops(): the caps' centres (empty: none)
   std::vector<double> region_curvature_;  // and its Gaussian curvature (angle defects)
 
   // Network: kind of each vertex; for path vertices their neighbours along
@@ -544,7 +552,8 @@ void Simplifier::hold_loops(const std::vector<std::vector<int>>& loops,
       throw std::runtime_error("simplify_capped_to: vertex " + std::to_string(v) +
                                " is out of range or held twice");
   };
-  for (int c : centres) check(c), kind_[c] = Kind::feature;
+  centre_.assign(positions_.size(), 0);
+  for (int c : centres) check(c), kind_[c] = Kind::feature, centre_[c] = 1;
   for (const std::vector<int>& loop : loops) {
     if (loop.size() < 3) throw std::runtime_error("simplify_capped_to: a loop of fewer than 3");
     for (std::size_t i = 0; i < loop.size(); ++i) {
@@ -649,9 +658,12 @@ void Simplifier::run(std::size_t target, const SimplifyOptions& options) {
   region_area_.assign(positions_.size(), 0.0);
   region_curvature_.assign(positions_.size(), 2 * std::numbers::pi);
   for (const Triangle& t : faces_) {
-    const double third =
-        (positions_[t[1]] - positions_[t[0]]).cross(positions_[t[2]] - positions_[t[0]]).norm() /
-        6.0;
+    // A cap stands for no surface: its area counts for no vertex.
+    const double third = is_cap_face(t) ? 0.0
+                                        : (positions_[t[1]] - positions_[t[0]])
+                                                  .cross(positions_[t[2]] - positions_[t[0]])
+                                                  .norm() /
+                                              6.0;
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = positions_[t[k]];
       const Vec3 a = positions_[t[(k + 1) % 3]] - p, b = positions_[t[(k + 2) % 3]] - p;

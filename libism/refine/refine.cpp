@@ -106,7 +106,23 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   };
   std::size_t last_sweep = map.n_vertices();
   const std::size_t total = map.splits_total();
-  for (int vs; map.n_vertices() < options.stop_at_vertices && (vs = map.split_next()) >= 0;) {
+  // A split whose one-ring is squeezed flat has no place for its new
+  // vertex: the discs of 2, 4, then 8 rings around it are re-embedded whole
+  // (which opens such a region when it lowers the energy) and the split
+  // retried.
+  auto split = [&] {
+    for (int rings = 2;; rings *= 2) {
+      try {
+        return map.split_next();
+      } catch (const SplitBlocked&) {
+        if (rings > 8) throw;
+        ++stats.split_repairs;
+        reembed_disc(map, map.rings_around(map.next_split_vertex(), rings));
+        check("after re-embedding a blocked split's disc");
+      }
+    }
+  };
+  for (int vs; map.n_vertices() < options.stop_at_vertices && (vs = split()) >= 0;) {
     ++stats.splits;
     check("after a split");
     const std::vector<int> ring = map.neighbours(vs);

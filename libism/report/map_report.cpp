@@ -14,6 +14,7 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
   j["optimizations"] = stats.optimizations;
   j["fast_path_fraction"] =
       double(stats.single_face_rings) / double(std::max<std::size_t>(1, stats.optimizations));
+  j["split_repairs"] = stats.split_repairs;
   if (stats.reembeddings > 0) {
     j["global_reembeddings"] = stats.reembeddings;
     j["global_reembeddings_applied"] = stats.reembeddings_applied;

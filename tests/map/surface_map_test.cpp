@@ -128,6 +128,24 @@ TEST(SurfaceMap, CurvatureWeightGivesCurvedRegionsMoreOfTheDomain) {
   EXPECT_GT(tip_share[1], 1.1 * tip_share[0]);
 }
 
+// A kernel a millionth of a unit across and ten thousand times thinner,
+// a hundredth of a unit from the origin, as vertex splits meet in the
+// squeezed corners of a map: its centroid is inside it (every triangle
+// with the ring positive). Summed in absolute coordinates, the centroid's
+// error (~1e-6) exceeded the kernel's thickness.
+TEST(KernelCentroid, ThinKernelFarFromTheOrigin) {
+  const Vec2 o(0.0096924177745443697, 0.0095036769543857657);
+  for (const double thickness : {1e-10, 1e-12}) {
+    const std::vector<Vec2> ring{o, o + Vec2(1e-6, 2e-7), o + Vec2(0.4e-6, 0.8e-7 + thickness)};
+    const std::optional<Vec2> c = kernel_centroid(ring);
+    ASSERT_TRUE(c.has_value()) << thickness;
+    for (std::size_t i = 0; i < ring.size(); ++i)
+      EXPECT_GT(orient(*c, ring[i], ring[(i + 1) % ring.size()]), 0.0) << thickness << " " << i;
+  }
+  // An empty kernel (a clockwise ring) has no centroid.
+  EXPECT_FALSE(kernel_centroid({Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}).has_value());
+}
+
 }  // namespace
 }  // namespace ism
 

@@ -89,6 +89,25 @@ TEST(BoundedBase, ClosesTheBaseOverTheSurfaceBoundary) {
   for (const auto& loop : boundary_loops(s.base.mesh)) base_boundary += loop.size();
   EXPECT_EQ(b.boundary_points, loop_vertices - base_boundary);
   EXPECT_GT(b.boundary_points, 0u);
+  // Inner points (after the boundary points): free, at interior surface
+  // vertices, each fanning to the two or more points of one base edge.
+  EXPECT_GT(b.inner_points, 0u);
+  const std::size_t nb = s.base.vertices.size();
+  ASSERT_EQ(d.n_vertices(), nb + b.boundary_points + b.inner_points + s.capped.loops.size());
+  std::set<int> loop_set;
+  for (const auto& loop : s.capped.loops) loop_set.insert(loop.begin(), loop.end());
+  std::vector<std::set<int>> neighbours(d.n_vertices());
+  for (const Triangle& t : d.triangles)
+    for (int k = 0; k < 3; ++k) neighbours[t[k]].insert(t[(k + 1) % 3]);
+  for (std::size_t i = nb + b.boundary_points; i < nb + b.boundary_points + b.inner_points; ++i) {
+    EXPECT_FALSE(b.fixed[i]) << i;
+    EXPECT_FALSE(loop_set.count(b.features[i])) << i;
+    EXPECT_LT(std::size_t(b.features[i]), s.capped.input_vertices) << i;
+    std::size_t points = 0;
+    for (int w : neighbours[i])
+      points += std::size_t(w) >= nb && std::size_t(w) < nb + b.boundary_points;
+    EXPECT_GE(points, 2u) << i;
+  }
 
   // Lengths: real triangles. The pieces tile each base face (unit
   // equilateral) without overlap, and their lengths are their layout's.

@@ -1,14 +1,17 @@
 // semireg MESH -o OUT (--base BASE | --base-vertices FILE | --base-size N):
-// semi-regular remesh of a closed surface of any genus over a coarse base mesh
+// semi-regular remesh of a surface of any genus, closed or with boundary
+// loops, over a coarse base mesh
 // (paper §6.2); the pipeline is pipeline/semireg.hpp.
 #include "pipeline/semireg.hpp"
 #include "tool/cli.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"semireg: semi-regular remesh of a closed surface over a coarse base mesh"};
+  CLI::App app{
+      "semireg: semi-regular remesh of a surface (closed or open) over a coarse base mesh"};
   ism::pipeline::SemiregOptions o;
   ism::tool::CommonOptions common;
-  app.add_option("mesh", o.input.path, "Closed surface of any genus (.obj, .ply, .off, .stl)")
+  app.add_option("mesh", o.input.path,
+                 "Surface of any genus, closed or with boundary loops (.obj, .ply, .off, .stl)")
       ->required();
   app.add_option("-o,--output", o.output,
                  "Semi-regular remesh (.obj, .ply, .off, .stl, .drc, .glb)")
