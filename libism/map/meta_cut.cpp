@@ -522,10 +522,17 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece) {
     return out;
   }
   // The fan whose worst triangle is best (relative to the piece's areas),
-  // the first such corner from the smallest key on.
+  // the first such corner from the corner with the smallest side-0
+  // position on: fans often tie (their worst triangle is an ear they
+  // share), and the winner must not depend on how the corners are keyed
+  // (a meta-mesh file read back numbers its edges, so its keys, anew).
+  int first = 0;
+  for (int a = 1; a < n; ++a)
+    if (P[a].x() < P[first].x() || (P[a].x() == P[first].x() && P[a].y() < P[first].y())) first = a;
   int best = -1;
   double best_quality = 1e-12;
-  for (int a = 0; a < n; ++a) {
+  for (int i = 0; i < n; ++i) {
+    const int a = (first + i) % n;
     double worst = HUGE_VAL;
     for (int j = 1; j + 1 < n && worst > best_quality; ++j)
       worst = std::min(worst, quality(a, (a + j) % n, (a + j + 1) % n));

@@ -194,8 +194,8 @@ class SurfaceMap {
   /// Moves the free vertices of a layout (taken from this map, unchanged
   /// since) to its positions: locates them in M¹ and re-traces their edges
   /// as straight segments of the chart. Kept only if every face of the
-  /// layout stays valid and their energy drops; returns the decrease (0:
-  /// the map is as it was).
+  /// layout stays valid and their energy drops by more than rounding
+  /// (1e-12 relative); returns the decrease (0: the map is as it was).
   double set_disc_layout(const DiscLayout& layout);
   /// The one-ring of v (neighbours, counter-clockwise).
   std::vector<int> neighbours(int v) const;

@@ -418,11 +418,14 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   sj["faces"] = remesh.n_faces();
   const std::size_t flipped = flipped_faces(remesh);
   sj["flipped_triangles"] = flipped;
+  // The same measure on the input: folds the remesh inherits from creases.
+  sj["input_flipped_triangles"] = flipped_faces(surface);
   r["distance"] = distance_report(distance);
   if (open) {
     Json& b = r["boundary"];
     b["loops"] = capped.loops.size();
     b["base_boundary_points"] = chosen_bounded->boundary_points;
+    b["base_inner_points"] = chosen_bounded->inner_points;
     double cap_area = 0, total_area = 0;
     for (std::size_t f = 0; f < capped.mesh.n_faces(); ++f) {
       const Triangle& t = capped.mesh.triangles[f];

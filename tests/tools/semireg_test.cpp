@@ -265,7 +265,7 @@ TEST(Semireg, BadOptionsAreRefused) {
 // connectivity down to the written base (boundary edges included), and lies
 // on the input with its boundary on the input's boundary.
 void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::path& base,
-                        const fs::path& report, int levels) {
+                        const fs::path& report, int levels, double min_efficiency = 0.5) {
   const ism::TriangleMesh surface = read_triangles(input), fine = read_triangles(out),
                           coarse_base = read_triangles(base);
   const std::size_t loops = ism::boundary_loops(surface).size();
@@ -276,8 +276,9 @@ void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::pa
   EXPECT_EQ(c.genus, check_of(input).genus);
   EXPECT_EQ(c.faces, b.faces << (2 * levels));
   EXPECT_EQ(c.welded_vertices, 0u);
-  // Folds: a few triangles at the boundary (at most 1 in 500; closed
-  // surfaces have none), see docs/results-open-surfaces.md.
+  // Folds: none but where the input folds by the same measure, and at most
+  // 1 in 500 triangles (docs/results-open-surfaces.md).
+  EXPECT_LE(ism::flipped_faces(fine), std::max<std::size_t>(ism::flipped_faces(surface), 1));
   EXPECT_LE(ism::flipped_faces(fine) * 500, fine.n_faces());
   ism::TriangleMesh mesh = fine;
   for (int level = levels; level > 0; --level) {
@@ -313,8 +314,10 @@ void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::pa
   EXPECT_EQ(json["boundary"]["loops"], loops);
   EXPECT_EQ(json["boundary"]["remesh_loops"], loops);
   EXPECT_GT(json["boundary"]["cap_area_fraction"].get<double>(), 0.0);
-  EXPECT_GT(json["map"]["efficiency_domain_to_surface"].get<double>(), 0.5);
+  EXPECT_GT(json["map"]["efficiency_domain_to_surface"].get<double>(), min_efficiency);
   EXPECT_GT(json["distance"]["psnr_db"].get<double>(), 50.0);
+  EXPECT_EQ(json["remesh"]["input_flipped_triangles"].get<std::size_t>(),
+            ism::flipped_faces(surface));
 }
 
 TEST(Semireg, OpenSurfaceKeepsItsBoundary) {
@@ -375,9 +378,13 @@ TEST_P(SemiregOpenModel, BoundaryOnTheInputsBoundary) {
                                          " --base-size 50 --levels 3 --write-base " +
                                          base.string() + " --report " + report.string() + " -q");
   ASSERT_EQ(r.status, 0) << r.err;
-  expect_open_remesh(input, out, base, report, 3);
+  // Measured 0.844 (head_3holes), 0.851 (venus), 0.898 (venus_loop2).
+  expect_open_remesh(input, out, base, report, 3, 0.8);
 }
 
-INSTANTIATE_TEST_SUITE_P(OpenModels, SemiregOpenModel, ::testing::Values("head_3holes", "venus"));
+// venus_loop2: a loop of 220 vertices, whose fans of boundary points once
+// buried the map in Steiner vertices (bounded_base's inner points).
+INSTANTIATE_TEST_SUITE_P(OpenModels, SemiregOpenModel,
+                         ::testing::Values("head_3holes", "venus", "venus_loop2"));
 
 }  // namespace
