@@ -122,11 +122,11 @@ std::pair<TriangleMesh, std::vector<int>> user_base(tool::Run& run, const Semire
 
 // On an open surface, no decimated base boundary edge spans more than this
 // many boundary edges of the surface: bounded_base() fans the surface
-// boundary vertices between its ends from an inner point, and the paths
-// of long fans still crowd (and maps squeeze) there. 8 left venus_loop2's
-// base of 50 vertices 49 on its loop; 16 and 32 map every open model at
-// base 50 and 100 with efficiencies 0.03 to 0.11 higher than 8 and 16 maps
-// bunny_open at base 50 where 32 does not (docs/results-open-surfaces.md).
+// boundary vertices between its ends from an inner point, and long fans
+// still crowd the paths (and squeeze the map) there. 8 kept 37 to 49 of
+// venus_loop2's 50 base vertices on its loop; 16 maps every shared open
+// model at base 50 and 100; 32 did as well at 100 but failed bunny_open at
+// 50 (docs/results-open-surfaces.md).
 constexpr std::size_t kMaxBoundarySpan = 16;
 
 struct BaseCandidate {

@@ -285,13 +285,14 @@ class Simplifier {
   }
 
   /// Calls fn(a, b) for the faces (vs, a, b) that survive the collapse
-  /// vs -> vt (those without vt), in their counter-clockwise order; stops
-  /// early when fn returns false.
+  /// vs -> vt (those without vt), in their counter-clockwise order, caps'
+  /// faces (is_cap_face) left out with `skip_caps`; stops early when fn
+  /// returns false.
   template <class Fn>
-  bool for_each_surviving_face(int vs, int vt, const Fn& fn) const {
+  bool for_each_surviving_face(int vs, int vt, const Fn& fn, bool skip_caps = false) const {
     for (int f : vertex_faces_[vs]) {
       const Triangle& t = faces_[f];
-      if (contains(t, vt)) continue;
+      if (contains(t, vt) || (skip_caps && is_cap_face(t))) continue;
       const int k = corner_of(t, vs);
       if (!fn(positions_[t[(k + 1) % 3]], positions_[t[(k + 2) % 3]])) return false;
     }
@@ -319,16 +320,16 @@ class Simplifier {
   double quality_after(int vs, int vt) const {
     const Vec3& pt = positions_[vt];
     double worst = 1.0;
-    for (int f : vertex_faces_[vs]) {
-      const Triangle& t = faces_[f];
-      if (contains(t, vt) || is_cap_face(t)) continue;
-      const int k = corner_of(t, vs);
-      const Vec3 &a = positions_[t[(k + 1) % 3]], &b = positions_[t[(k + 2) % 3]];
-      const double twice_area = (a - pt).cross(b - pt).norm();
-      const double lengths =
-          (a - pt).squaredNorm() + (b - pt).squaredNorm() + (a - b).squaredNorm();
-      worst = std::min(worst, lengths > 0 ? 2.0 * std::sqrt(3.0) * twice_area / lengths : 0.0);
-    }
+    for_each_surviving_face(
+        vs, vt,
+        [&](const Vec3& a, const Vec3& b) {
+          const double twice_area = (a - pt).cross(b - pt).norm();
+          const double lengths =
+              (a - pt).squaredNorm() + (b - pt).squaredNorm() + (a - b).squaredNorm();
+          worst = std::min(worst, lengths > 0 ? 2.0 * std::sqrt(3.0) * twice_area / lengths : 0.0);
+          return true;
+        },
+        /*skip_caps=*/true);
     return worst;
   }
   bool is_cap_face(const Triangle& t) const {
