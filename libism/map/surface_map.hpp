@@ -160,6 +160,8 @@ class SurfaceMap {
   /// Area of the surface at its current resolution.
   double surface_area() const { return surface_area_; }
   bool is_active(int v) const { return !vertex_faces_[v].empty(); }
+  /// The faces around vertex v (empty when v is not active yet).
+  const std::vector<int>& vertex_faces(int v) const { return vertex_faces_[v]; }
   bool is_pinned(int v) const { return pinned_[v] != 0; }
 
   /// Applies the next vertex split of the progressive mesh, embedding the

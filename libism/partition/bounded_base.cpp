@@ -244,6 +244,20 @@ BoundedBase bounded_base(const TriangleMesh& base, const std::vector<int>& featu
   // vertices between a and b and their fractions of the way from a.
   std::map<std::pair<int, int>, std::vector<std::pair<int, double>>> edge_points;
   std::vector<int> surface_loop_used(nloops, -1);
+  // Input edges joining two vertices of one loop that are not neighbours
+  // along it: a base boundary edge spanning both ends would put the faces
+  // between them on one straight line of the domain.
+  std::vector<std::pair<int, int>> bridges;
+  for (std::size_t f = 0; f < capped.input_faces; ++f) {
+    const Triangle& t = surface.triangles[f];
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a > b || loop_of[a] < 0 || loop_of[a] != loop_of[b]) continue;
+      const int n = int(capped.loops[std::size_t(loop_of[a])].size());
+      const int d = (position[b] - position[a] + n) % n;
+      if (d != 1 && d != n - 1) bridges.emplace_back(a, b);
+    }
+  }
   for (std::size_t bl = 0; bl < base_loops.size(); ++bl) {
     const std::vector<int>& L = base_loops[bl];
     const int j = loop_of[features[L[0]]];
@@ -273,6 +287,15 @@ BoundedBase bounded_base(const TriangleMesh& base, const std::vector<int>& featu
       const int a = L[k], b = L[(k + 1) % m];
       const int pa = position[features[a]];
       const int steps = (position[features[b]] - pa + int(n)) % int(n);
+      for (const auto& [u, w] : bridges)
+        if (loop_of[u] == j && (position[u] - pa + int(n)) % int(n) <= steps &&
+            (position[w] - pa + int(n)) % int(n) <= steps)
+          throw PartitionError("the base's boundary edge from surface vertex " +
+                               std::to_string(features[a]) + " to " + std::to_string(features[b]) +
+                               " spans the surface edge " + std::to_string(u) + "-" +
+                               std::to_string(w) +
+                               " across its boundary loop: the faces between would have no "
+                               "area; give the base a boundary vertex between them");
       std::vector<double> arc(std::size_t(steps) + 1, 0.0);
       for (int s = 1; s <= steps; ++s)
         arc[s] =
@@ -325,18 +348,25 @@ BoundedBase bounded_base(const TriangleMesh& base, const std::vector<int>& featu
       const auto it = edge_points.find({y, x});
       if (it == edge_points.end()) continue;
       std::vector<int> run{k};  // x, the points from x to y, y
+      std::size_t middle = 0;   // the point of the run nearest the edge's middle
+      double off_middle = HUGE_VAL;
       for (auto q = it->second.rbegin(); q != it->second.rend(); ++q) {
         const double s = 1.0 - q->second;  // fraction from x
+        if (std::abs(s - 0.5) < off_middle) off_middle = std::abs(s - 0.5), middle = run.size();
         run.push_back(add(q->first, (1 - s) * barys[k] + s * barys[(k + 1) % 3]));
       }
       run.push_back((k + 1) % 3);
       const std::size_t points = run.size() - 2;
       const int inner =
-          points >= kInnerFanPoints ? picker.pick(out.features[ids[run[run.size() / 2]]]) : -1;
+          points >= kInnerFanPoints ? picker.pick(out.features[ids[run[middle]]]) : -1;
       if (inner < 0) {
         rest.insert(rest.end(), run.begin() + 1, run.end() - 1);
         continue;
       }
+      // Above the edge's middle, picked from the boundary point nearest to
+      // it (by arc length): picked from the middle point by count instead,
+      // the fan, and the map, were sheared along the boundary by the
+      // distance between the two (a quarter of the edge on bunny_open).
       const Eigen::Vector3d mid = 0.5 * (barys[k] + barys[(k + 1) % 3]);
       const int d =
           add(int(out.domain.positions.size()), mid + kInnerDepth * (barys[(k + 2) % 3] - mid));

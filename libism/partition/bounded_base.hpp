@@ -71,8 +71,11 @@ struct BoundedBase {
 /// capped by fans (CapOptions{} : no rings). Throws PartitionError naming
 /// the problem when the loops do not correspond: a different number of
 /// loops, a base boundary vertex off the surface's boundary or an interior
-/// base vertex on it, two base loops on one surface loop, or a base loop
-/// whose vertices follow its surface loop in another order or direction.
+/// base vertex on it, two base loops on one surface loop, a base loop
+/// whose vertices follow its surface loop in another order or direction, or
+/// a base boundary edge spanning both ends of a surface edge that joins two
+/// vertices of its loop (an ear's tip not a base vertex: the faces between
+/// would have no area in the domain).
 BoundedBase bounded_base(const TriangleMesh& base, const std::vector<int>& features,
                          const CappedMesh& capped);
 

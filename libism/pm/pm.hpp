@@ -92,6 +92,8 @@ ProgressiveMesh simplify_to(const TriangleMesh& mesh, std::size_t target_vertice
 /// vertex a vertex of the input. `target_vertices` counts the centres. With
 /// max_loop_span > 0 no base boundary edge spans more than that many edges
 /// of its input loop (the base keeps more loop vertices where needed).
+/// Either way no base boundary edge spans both ends of an input edge that
+/// joins two vertices of its loop (an ear's tip stays a base vertex).
 /// Throws std::runtime_error as simplify_to() does, or for a loop shorter
 /// than 3 or a vertex given twice.
 ProgressiveMesh simplify_capped_to(const TriangleMesh& mesh,

@@ -273,6 +273,18 @@ class Simplifier {
                                : (loop_position_[other] - loop_position_[vt] + n) % n;
       if (std::size_t(span) > max_span_) return false;
     }
+    if (!bridges_.empty() && kind_[vs] == Kind::path && loop_position_[vs] >= 0) {
+      // Nor may it span both ends of an input edge across the loop (an
+      // ear's third edge, say): the faces between would lie on one straight
+      // base edge, with no area (bounded_base refuses such a base).
+      const bool forward = vt == path_next_[vs];
+      const int other = forward ? path_prev_[vs] : path_next_[vs];
+      const int n = loop_size_[vs];
+      const int first = loop_position_[forward ? other : vt];
+      const int span = (loop_position_[forward ? vt : other] - first + n) % n;
+      for (const auto& [i, j] : bridges_[std::size_t(loop_index_[vs])])
+        if ((i - first + n) % n <= span && (j - first + n) % n <= span) return false;
+    }
     for (int x : {vl, vr})
       if (is_path_edge(vs, x) && is_path_edge(vt, x)) return false;
     return true;
@@ -388,6 +400,11 @@ class Simplifier {
   // size, and the longest loop edge a collapse may leave (0: any).
   std::vector<int> loop_position_, loop_size_;
   std::size_t max_span_ = 0;
+  // hold_loops(): each loop vertex's loop, and per loop the positions of
+  // the ends of its bridges (input edges joining two of its vertices that
+  // are not loop neighbours).
+  std::vector<int> loop_index_;
+  std::vector<std::vector<std::pair<int, int>>> bridges_;
   std::set<std::pair<int, int>> direct_paths_;
 
   std::vector<std::uint8_t> alive_;
@@ -547,6 +564,7 @@ void Simplifier::hold_loops(const std::vector<std::vector<int>>& loops,
   max_span_ = max_span;
   loop_position_.assign(positions_.size(), -1);
   loop_size_.assign(positions_.size(), 0);
+  loop_index_.assign(positions_.size(), -1);
   const int nv = static_cast<int>(positions_.size());
   auto check = [&](int v) {
     if (v < 0 || v >= nv || kind_[v] != Kind::interior)
@@ -565,8 +583,17 @@ void Simplifier::hold_loops(const std::vector<std::vector<int>>& loops,
       loop_size_[v] = int(loop.size());
       path_prev_[v] = loop[(i + loop.size() - 1) % loop.size()];
       path_next_[v] = loop[(i + 1) % loop.size()];
+      loop_index_[v] = int(&loop - loops.data());
     }
   }
+  bridges_.assign(loops.size(), {});
+  for (const Triangle& t : faces_)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      if (a > b || loop_index_[a] < 0 || loop_index_[a] != loop_index_[b]) continue;
+      if (path_next_[a] == b || path_prev_[a] == b) continue;
+      bridges_[std::size_t(loop_index_[a])].emplace_back(loop_position_[a], loop_position_[b]);
+    }
 }
 
 void Simplifier::evaluate(int vs) {

@@ -65,7 +65,9 @@ struct RefineOptions {
 
 struct RefineStats {
   std::size_t splits = 0;
-  std::size_t split_repairs = 0;  // discs re-embedded around blocked splits (SplitBlocked)
+  // Discs re-embedded around blocked splits (SplitBlocked) and around
+  // splits that left a face squeezed almost flat.
+  std::size_t split_repairs = 0;
   std::size_t sweeps = 0;
   std::size_t final_sweeps = 0;
   std::size_t local_moves = 0;               // optimisations by local_relaxation
