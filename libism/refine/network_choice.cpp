@@ -11,21 +11,22 @@ namespace ism {
 namespace {
 
 // Builds every candidate's map, refines it to `coarse_vertices` and keeps the
-// lowest symmetric energy (the first of equals); a single candidate is
+// highest score (default: the lowest symmetric energy; the first of equals); a single candidate is
 // returned unrefined. A candidate whose map fails (a split the map core
 // cannot place) drops out; when all fail, the first failure is rethrown.
 // Candidates are independent, so they run in parallel, as many at a time as
 // there are cores (each holds a copy of the surface).
 template <class MakeSetup>
 std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
-                                 std::size_t coarse_vertices, const RefineOptions& refine_options) {
+                                 std::size_t coarse_vertices, const RefineOptions& refine_options,
+                                 const CoarseScore& score = {}) {
   if (count == 1) return make_setup(0);
   RefineOptions coarse = refine_options;
   coarse.stop_at_vertices = coarse_vertices;
   coarse.progress = nullptr;
   const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
   std::unique_ptr<MapSetup> best;
-  double best_energy = 0;
+  double best_score = 0;
   std::exception_ptr first_failure;
   for (std::size_t first = 0; first < count; first += batch) {
     const std::size_t last = std::min(count, first + batch);
@@ -46,10 +47,10 @@ std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
         if (!first_failure) first_failure = failures[k];
         continue;
       }
-      const double energy = setups[k]->map->energy();
-      if (!best || energy < best_energy) {
+      const double value = score ? score(*setups[k]->map) : -setups[k]->map->energy();
+      if (!best || value > best_score) {
         best = std::move(setups[k]);
-        best_energy = energy;
+        best_score = value;
       }
     }
   }
@@ -77,7 +78,8 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
 }
 
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
-                                        const MapOptions& options, std::size_t coarse_vertices) {
+                                        const MapOptions& options, std::size_t coarse_vertices,
+                                        const CoarseScore& score) {
   if (candidates.empty()) throw std::invalid_argument("choose_domain: no candidate");
   return choose(
       candidates.size(),
@@ -89,7 +91,7 @@ std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
         setup->map = std::make_unique<SurfaceMap>(*setup->owned_domain, setup->pm, options);
         return setup;
       },
-      coarse_vertices, RefineOptions{});
+      coarse_vertices, RefineOptions{}, score);
 }
 
 }  // namespace ism

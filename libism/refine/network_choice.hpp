@@ -8,6 +8,7 @@
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -42,10 +43,16 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          std::size_t coarse_vertices = 1000,
                                          const RefineOptions& refine_options = {});
 
+/// Scores a candidate's coarse map; the highest is kept.
+using CoarseScore = std::function<double(const SurfaceMap&)>;
+
 /// The same choice among candidates that differ in their domain as well;
-/// the result owns its domain.
+/// the result owns its domain. With `score`, the candidate scoring highest
+/// at the coarse level is kept instead of the lowest energy (e.g. the
+/// measure the front end keeps its final map by).
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
                                         const MapOptions& options,
-                                        std::size_t coarse_vertices = 1000);
+                                        std::size_t coarse_vertices = 1000,
+                                        const CoarseScore& score = {});
 
 }  // namespace ism

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -161,6 +162,78 @@ TEST(BoundedBase, ClosesTheBaseOverTheSurfaceBoundary) {
   for (std::size_t e = 0; e < network.domain_edges.size(); ++e)
     if (direct.count(network.domain_edges[e])) EXPECT_EQ(network.paths[e].size(), 2u) << e;
   EXPECT_FALSE(validate_network(network, d).has_value());
+}
+
+// The two-holed sphere with an ear on a loop: a boundary vertex with two
+// faces loses one, so the face it keeps holds two boundary edges and its
+// third edge joins two vertices of the loop (a "bridge").
+struct EarCase {
+  TriangleMesh surface;
+  int tip = -1;
+  std::array<int, 2> bridge{-1, -1};
+};
+
+EarCase two_holed_sphere_with_an_ear() {
+  EarCase e;
+  e.surface = two_holed_sphere();
+  std::vector<std::vector<int>> faces(e.surface.n_vertices());
+  for (std::size_t f = 0; f < e.surface.n_faces(); ++f)
+    for (int v : e.surface.triangles[f]) faces[v].push_back(int(f));
+  std::vector<char> on_loop(e.surface.n_vertices(), 0);
+  for (const auto& loop : boundary_loops(e.surface))
+    for (int v : loop) on_loop[v] = 1;
+  for (int b = 0; b < int(e.surface.n_vertices()); ++b) {
+    if (!on_loop[b] || faces[b].size() != 2) continue;
+    // The vertex the two faces share besides b must be interior.
+    const Triangle& f0 = e.surface.triangles[faces[b][0]];
+    const Triangle& f1 = e.surface.triangles[faces[b][1]];
+    int shared = -1, kept_other = -1;
+    for (int v : f0)
+      if (v != b && std::count(f1.begin(), f1.end(), v)) shared = v;
+    for (int v : f0)
+      if (v != b && v != shared) kept_other = v;
+    if (shared < 0 || on_loop[shared]) continue;
+    e.tip = b;
+    e.bridge = {std::min(shared, kept_other), std::max(shared, kept_other)};
+    e.surface.triangles.erase(e.surface.triangles.begin() + faces[b][1]);
+    return e;
+  }
+  return e;
+}
+
+TEST(BoundedBase, AnEarsTipStaysABaseVertex) {
+  const EarCase e = two_holed_sphere_with_an_ear();
+  ASSERT_GE(e.tip, 0) << "no boundary vertex with two faces on the generated sphere";
+  const CappedMesh capped = cap_boundary_loops(e.surface, boundary_loops(e.surface));
+  ASSERT_EQ(capped.loops.size(), 2u);
+  std::vector<int> centres;
+  for (std::size_t j = 0; j < capped.loops.size(); ++j) centres.push_back(capped.centre(j));
+  const UncappedBase base =
+      uncapped_base(simplify_capped_to(capped.mesh, capped.loops, centres, 30 + centres.size(),
+                                       {.priority = SimplifyPriority::isotropic}),
+                    centres.size());
+  // Without the tip, the base edge over it would put the ear's face on one
+  // straight line of the domain.
+  const auto tip = std::find(base.vertices.begin(), base.vertices.end(), e.tip);
+  ASSERT_NE(tip, base.vertices.end());
+  EXPECT_NO_THROW(bounded_base(base.mesh, base.vertices, capped));
+
+  // A given base whose boundary edge spans the ear is refused: the tip's
+  // base vertex moved to a loop neighbour of the tip that is no base vertex.
+  std::vector<int> moved = base.vertices;
+  for (int end : e.bridge)
+    if (std::find(moved.begin(), moved.end(), end) == moved.end()) {
+      moved[std::size_t(tip - base.vertices.begin())] = end;
+      break;
+    }
+  ASSERT_NE(moved, base.vertices);
+  std::string message = "accepted";
+  try {
+    bounded_base(base.mesh, moved, capped);
+  } catch (const PartitionError& x) {
+    message = x.what();
+  }
+  EXPECT_NE(message.find("spans the surface edge"), std::string::npos) << message;
 }
 
 TEST(BoundedBase, RefusesBasesWhoseLoopsDoNotMatch) {
