@@ -128,7 +128,10 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
       {.input = input,
        .dump_patches = o.dump_patches,
        .hint = "try --hold-features or other --features"},
-      o.map, [&](const MapOptions& options) { return choose_network(networks, domain, options); },
+      o.map,
+      [&](const MapOptions& options, std::size_t) {
+        return tool::only(choose_network(networks, domain, options));
+      },
       // Judged on the input surface: what the caps take does not count.
       [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);

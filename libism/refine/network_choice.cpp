@@ -11,22 +11,28 @@ namespace ism {
 namespace {
 
 // Builds every candidate's map, refines it to `coarse_vertices` and keeps the
-// highest score (default: the lowest symmetric energy; the first of equals); a single candidate is
+// best `count` by score (default: the lowest symmetric energy), best first
+// (the first of equals first); a single candidate is
 // returned unrefined. A candidate whose map fails (a split the map core
 // cannot place) drops out; when all fail, the first failure is rethrown.
 // Candidates are independent, so they run in parallel, as many at a time as
 // there are cores (each holds a copy of the surface).
 template <class MakeSetup>
-std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
-                                 std::size_t coarse_vertices, const RefineOptions& refine_options,
-                                 const CoarseScore& score = {}) {
-  if (count == 1) return make_setup(0);
+std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup& make_setup,
+                                              std::size_t coarse_vertices,
+                                              const RefineOptions& refine_options,
+                                              const CoarseScore& score = {}, std::size_t keep = 1) {
+  std::vector<std::unique_ptr<MapSetup>> out;
+  if (count == 1) {
+    out.push_back(make_setup(0));
+    return out;
+  }
   RefineOptions coarse = refine_options;
   coarse.stop_at_vertices = coarse_vertices;
   coarse.progress = nullptr;
   const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
-  std::unique_ptr<MapSetup> best;
-  double best_score = 0;
+  // The best `keep` so far, best first (the first of equals first).
+  std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
   std::exception_ptr first_failure;
   for (std::size_t first = 0; first < count; first += batch) {
     const std::size_t last = std::min(count, first + batch);
@@ -48,14 +54,15 @@ std::unique_ptr<MapSetup> choose(std::size_t count, const MakeSetup& make_setup,
         continue;
       }
       const double value = score ? score(*setups[k]->map) : -setups[k]->map->energy();
-      if (!best || value > best_score) {
-        best = std::move(setups[k]);
-        best_score = value;
-      }
+      auto at = std::find_if(best.begin(), best.end(),
+                             [&](const auto& entry) { return value > entry.first; });
+      best.emplace(at, value, std::move(setups[k]));
+      if (best.size() > keep) best.pop_back();
     }
   }
-  if (!best) std::rethrow_exception(first_failure);
-  return best;
+  if (best.empty()) std::rethrow_exception(first_failure);
+  for (auto& entry : best) out.push_back(std::move(entry.second));
+  return out;
 }
 
 }  // namespace
@@ -65,22 +72,24 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          std::size_t coarse_vertices,
                                          const RefineOptions& refine_options) {
   if (networks.empty()) throw std::invalid_argument("choose_network: no network");
-  return choose(
-      networks.size(),
-      [&](std::size_t i) {
-        auto setup = std::make_unique<MapSetup>();
-        setup->network = std::move(networks[i]);
-        setup->pm = simplify_constrained(setup->network, domain.mesh());
-        setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
-        return setup;
-      },
-      coarse_vertices, refine_options);
+  return std::move(choose(
+                       networks.size(),
+                       [&](std::size_t i) {
+                         auto setup = std::make_unique<MapSetup>();
+                         setup->network = std::move(networks[i]);
+                         setup->pm = simplify_constrained(setup->network, domain.mesh());
+                         setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
+                         return setup;
+                       },
+                       coarse_vertices, refine_options)
+                       .front());
 }
 
-std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
-                                        const MapOptions& options, std::size_t coarse_vertices,
-                                        const CoarseScore& score) {
-  if (candidates.empty()) throw std::invalid_argument("choose_domain: no candidate");
+std::vector<std::unique_ptr<MapSetup>> rank_domains(std::vector<DomainCandidate> candidates,
+                                                    const MapOptions& options,
+                                                    std::size_t coarse_vertices,
+                                                    const CoarseScore& score, std::size_t count) {
+  if (candidates.empty()) throw std::invalid_argument("rank_domains: no candidate");
   return choose(
       candidates.size(),
       [&](std::size_t i) {
@@ -91,7 +100,13 @@ std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
         setup->map = std::make_unique<SurfaceMap>(*setup->owned_domain, setup->pm, options);
         return setup;
       },
-      coarse_vertices, RefineOptions{}, score);
+      coarse_vertices, RefineOptions{}, score, std::max<std::size_t>(count, 1));
+}
+
+std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
+                                        const MapOptions& options, std::size_t coarse_vertices) {
+  if (candidates.empty()) throw std::invalid_argument("choose_domain: no candidate");
+  return std::move(rank_domains(std::move(candidates), options, coarse_vertices).front());
 }
 
 }  // namespace ism

@@ -43,16 +43,23 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          std::size_t coarse_vertices = 1000,
                                          const RefineOptions& refine_options = {});
 
-/// Scores a candidate's coarse map; the highest is kept.
-using CoarseScore = std::function<double(const SurfaceMap&)>;
-
 /// The same choice among candidates that differ in their domain as well;
-/// the result owns its domain. With `score`, the candidate scoring highest
-/// at the coarse level is kept instead of the lowest energy (e.g. the
-/// measure the front end keeps its final map by).
+/// the result owns its domain.
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
                                         const MapOptions& options,
-                                        std::size_t coarse_vertices = 1000,
-                                        const CoarseScore& score = {});
+                                        std::size_t coarse_vertices = 1000);
+
+/// Scores a candidate's coarse map; the higher the better.
+using CoarseScore = std::function<double(const SurfaceMap&)>;
+
+/// choose_domain() keeping the best `count` candidates (fewer when fewer
+/// map), best first, to be refined and compared at full resolution; with
+/// `score` they are ranked by it (highest first) instead of by the lowest
+/// energy, e.g. by the measure the front end keeps its final map by.
+std::vector<std::unique_ptr<MapSetup>> rank_domains(std::vector<DomainCandidate> candidates,
+                                                    const MapOptions& options,
+                                                    std::size_t coarse_vertices = 1000,
+                                                    const CoarseScore& score = {},
+                                                    std::size_t count = 1);
 
 }  // namespace ism

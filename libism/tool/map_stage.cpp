@@ -63,52 +63,78 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
                              const MapScore& score) {
   // Both rounds' variants, in order: the first round, then the fallbacks.
   std::vector<MapVariant> all = settings.variants;
+  const std::size_t contenders = std::max<std::size_t>(settings.contenders, 1);
+  // Outcome i * contenders + k: variant i's coarse candidate of rank k.
   struct Outcome {
     MapStageResult result;
     std::exception_ptr error;
+    bool used = false;  // false: the variant had fewer candidates
     double score = 0;
     double seconds = 0;
   };
   std::vector<Outcome> outcomes;
   auto run_round = [&](std::size_t first, std::size_t last) {
-    outcomes.resize(last);
+    outcomes.resize(last * contenders);
     tbb::task_group group;
     for (std::size_t i = first; i < last; ++i)
       group.run([&, i] {
-        Outcome& out = outcomes[i];
         const auto start = std::chrono::steady_clock::now();
+        auto seconds = [&] {
+          return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        };
+        std::vector<std::unique_ptr<MapSetup>> setups;
         try {
           MapSettings one = settings;
           one.variants = {all[i]};
-          out.result.setup = choose(one.map_options(0));
-          RefineOptions options;
-          options.max_final_sweeps = settings.final_sweeps;
-          options.global_flat_reembedding = stage.global_flat_reembedding;
-          options.local_disc_every = stage.local_disc_every;
-          if (i == first) options.progress = [&](double f) { progress.update(f); };
-          out.result.stats = refine(*out.result.setup->map, options);
-          out.score = score(*out.result.setup->map);
+          setups = choose(one.map_options(0), contenders);
+          if (setups.empty()) throw std::logic_error("the map stage's choice returned no map");
         } catch (...) {
+          Outcome& out = outcomes[i * contenders];
+          out.used = true;
           out.error = std::current_exception();
+          out.seconds = seconds();
+          return;
         }
-        out.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        // Each contender refined whole, side by side.
+        tbb::task_group refinements;
+        for (std::size_t k = 0; k < std::min(contenders, setups.size()); ++k)
+          refinements.run([&, i, k] {
+            Outcome& out = outcomes[i * contenders + k];
+            out.used = true;
+            out.result.setup = std::move(setups[k]);
+            try {
+              RefineOptions options;
+              options.max_final_sweeps = settings.final_sweeps;
+              options.global_flat_reembedding = stage.global_flat_reembedding;
+              options.local_disc_every = stage.local_disc_every;
+              if (i == first && k == 0) options.progress = [&](double f) { progress.update(f); };
+              out.result.stats = refine(*out.result.setup->map, options);
+              out.score = score(*out.result.setup->map);
+            } catch (...) {
+              out.error = std::current_exception();
+            }
+            out.seconds = seconds();
+          });
+        refinements.wait();
       });
     group.wait();
   };
   run_round(0, all.size());
   bool retry = false;
-  for (const Outcome& out : outcomes) retry |= !out.error && out.score < stage.retry_below;
+  for (const Outcome& out : outcomes)
+    retry |= out.used && !out.error && out.score < stage.retry_below;
   if (retry && !settings.fallback_variants.empty()) {
     const std::size_t first = all.size();
     all.insert(all.end(), settings.fallback_variants.begin(), settings.fallback_variants.end());
     run_round(first, all.size());
   }
-  const std::size_t n = all.size();
+  const std::size_t n = outcomes.size();
 
   std::optional<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i)
-    if (!outcomes[i].error && (!kept || outcomes[i].score > outcomes[*kept].score)) kept = i;
+    if (outcomes[i].used && !outcomes[i].error &&
+        (!kept || outcomes[i].score > outcomes[*kept].score))
+      kept = i;
   if (!kept) {
     try {
       std::rethrow_exception(outcomes[0].error);
@@ -125,13 +151,19 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   r["features_released"] = !settings.hold_features;
   r["curvature_weight"] = settings.curvature_weight;
   Json& variants = r["map_variants"] = Json::array();
+  std::size_t used = 0, kept_position = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    if (!outcomes[i].used) continue;
+    ++used;
+    if (i == *kept) kept_position = used;
+    const MapVariant& variant = all[i / contenders];
     Json v = Json::object();
-    v["inverse_stretch_weight"] = all[i].inverse_stretch_weight;
-    v["cone_relaxation_rings"] = all[i].cone_relaxation_rings;
-    v["anisotropy_weight"] = all[i].anisotropy_weight;
-    v["anisotropy_threshold"] = all[i].anisotropy_threshold;
-    v["fallback"] = i >= settings.variants.size();
+    v["inverse_stretch_weight"] = variant.inverse_stretch_weight;
+    v["cone_relaxation_rings"] = variant.cone_relaxation_rings;
+    v["anisotropy_weight"] = variant.anisotropy_weight;
+    v["anisotropy_threshold"] = variant.anisotropy_threshold;
+    v["fallback"] = i / contenders >= settings.variants.size();
+    v["contender"] = i % contenders;
     if (outcomes[i].error) {
       try {
         std::rethrow_exception(outcomes[i].error);
@@ -140,6 +172,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       }
     } else {
       const MapMeasures m = outcomes[i].result.setup->map->measures();
+      v["candidate"] = outcomes[i].result.setup->candidate;
       v["score"] = outcomes[i].score;
       v["efficiency_domain_to_surface"] = m.forward_efficiency;
       v["symmetric_efficiency"] = m.symmetric_efficiency;
@@ -148,9 +181,11 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     v["kept"] = i == *kept;
     variants.push_back(v);
   }
-  if (n > 1)
-    run.note("kept map variant " + std::to_string(*kept + 1) + " of " + std::to_string(n) +
-             " (inverse-stretch weight " + std::to_string(all[*kept].inverse_stretch_weight) + ")");
+  if (used > 1)
+    run.note("kept map " + std::to_string(kept_position) + " of " + std::to_string(used) +
+             " (inverse-stretch weight " +
+             std::to_string(all[*kept / contenders].inverse_stretch_weight) + ", candidate " +
+             std::to_string(outcomes[*kept].result.setup->candidate) + ")");
   MapStageResult kept_result = std::move(outcomes[*kept].result);
   if (!stage.dump_patches.empty())
     write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {

@@ -38,6 +38,10 @@ struct MapSettings {
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
   std::vector<MapVariant> variants{MapVariant{}};
+  /// How many of each variant's best coarse candidates (networks or bases,
+  /// ChooseMap's count) are refined whole and compete: 1 trusts the coarse
+  /// ranking.
+  std::size_t contenders = 1;
   /// MapOptions::curvature_weight of every variant (--curvature-weight).
   double curvature_weight = 0.0;
   /// Refined side by side after `variants` when one of those scored below
@@ -81,8 +85,18 @@ struct MapStage {
 /// Scores a refined map; the variant with the highest score is kept.
 using MapScore = std::function<double(const SurfaceMap&)>;
 /// Chooses the network (or domain) and builds its coarse map with the given
-/// options: choose_network() or choose_domain() over the front end's candidates.
-using ChooseMap = std::function<std::unique_ptr<MapSetup>(const MapOptions&)>;
+/// options: the best `count` candidates, best first (fewer when fewer map;
+/// count is MapSettings::contenders), e.g. choose_network() or
+/// rank_domains() over the front end's candidates.
+using ChooseMap =
+    std::function<std::vector<std::unique_ptr<MapSetup>>(const MapOptions&, std::size_t count)>;
+
+/// A chosen map as ChooseMap's result.
+inline std::vector<std::unique_ptr<MapSetup>> only(std::unique_ptr<MapSetup> setup) {
+  std::vector<std::unique_ptr<MapSetup>> out;
+  out.push_back(std::move(setup));
+  return out;
+}
 
 struct MapStageResult {
   std::unique_ptr<MapSetup> setup;  // the variant kept, refined to full resolution
@@ -92,14 +106,15 @@ struct MapStageResult {
 /// Runs every variant of `settings` in parallel, each deterministic and
 /// whole — its own choice of network and coarse map, since the large-scale
 /// shape of a map is decided at its coarsest levels — then its refinement to
-/// full resolution (progress on `progress` from the first variant). Keeps
-/// the variant with the highest score (the first among equals) and writes
+/// full resolution (progress on `progress` from the first variant), its
+/// best settings.contenders coarse maps each refined side by side. Keeps
+/// the map with the highest score (the first among equals) and writes
 /// its patch dump if asked. If a variant scores below stage.retry_below,
 /// settings.fallback_variants are then refined the same way and compete too. The report gets
-/// "features_released" and "map_variants" (each variant's settings, score, efficiencies and whether
-/// it was kept). When every variant fails, rethrows the first variant's
-/// Failure, or throws Failure "<tool>: the map optimisation failed on
-/// <input> (<why>); <hint>".
+/// "features_released" and "map_variants" (per map refined: its variant's settings, contender rank
+/// and candidate, score, efficiencies and whether it was kept). When every variant fails, rethrows
+/// the first variant's Failure, or throws Failure "<tool>: the map optimisation failed on <input>
+/// (<why>); <hint>".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 namespace ism {
 namespace {
 
@@ -66,6 +68,29 @@ TEST(NetworkChoice, CandidatesWithTheirOwnDomains) {
   refine(*chosen->map);
   EXPECT_EQ(chosen->map->validate(), std::nullopt);
   EXPECT_EQ(chosen->map->n_vertices(), chosen->network.surface.n_vertices());
+}
+
+// A front end's score ranks the candidates instead, and several can be
+// kept, best first (fewer when fewer there are).
+TEST(NetworkChoice, RanksCandidatesByAScore) {
+  const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
+  std::vector<DomainCandidate> candidates;
+  for (SimplifyPriority priority : {SimplifyPriority::quadric, SimplifyPriority::isotropic}) {
+    const ProgressiveMesh decimated = simplify_to(surface, 30, {.priority = priority});
+    const TriangleMesh base = base_mesh(decimated);
+    candidates.push_back({std::make_unique<DomainGeometry>(base, equilateral_lengths(base)),
+                          trace_path_network(surface, base, decimated.base_vertices)});
+  }
+  const CoarseScore one_way = [](const SurfaceMap& m) { return m.measures().forward_efficiency; };
+  const auto ranked = rank_domains(std::move(candidates), {}, coarse_vertices, one_way, 5);
+  ASSERT_EQ(ranked.size(), 2u);
+  EXPECT_NE(ranked[0]->candidate, ranked[1]->candidate);
+  EXPECT_GT(one_way(*ranked[0]->map), one_way(*ranked[1]->map));
+  for (const auto& setup : ranked) {
+    EXPECT_EQ(setup->map->validate(), std::nullopt);
+    EXPECT_EQ(&setup->map->domain(), setup->owned_domain.get());
+    EXPECT_EQ(setup->map->n_vertices(), coarse_vertices);
+  }
 }
 
 TEST(NetworkChoice, RefusesAnEmptyChoice) {

@@ -3,6 +3,7 @@
 #include "tool/map_stage.hpp"
 #include "domain/domain.hpp"
 #include "partition/partition.hpp"
+#include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
 #include "tool/failure.hpp"
 
@@ -26,8 +27,8 @@ const MapSettings two_weights{
 
 TEST(MapStage, KeepsTheVariantWithTheHighestScore) {
   Blob blob;
-  const auto choose = [&](const MapOptions& options) {
-    return choose_network(blob.networks, blob.geometry, options);
+  const auto choose = [&](const MapOptions& options, std::size_t) {
+    return only(choose_network(blob.networks, blob.geometry, options));
   };
   for (const bool prefer_one_way : {true, false}) {
     SCOPED_TRACE(prefer_one_way);
@@ -56,10 +57,10 @@ TEST(MapStage, KeepsTheVariantWithTheHighestScore) {
 TEST(MapStage, OneFailingVariantIsDroppedAndAllFailingIsAFailure) {
   Blob blob;
   int calls = 0;
-  const auto choose_second_fails = [&](const MapOptions& options) {
+  const auto choose_second_fails = [&](const MapOptions& options, std::size_t) {
     ++calls;
     if (options.inverse_stretch_weight < 1) throw std::runtime_error("no coarse map");
-    return choose_network(blob.networks, blob.geometry, options);
+    return only(choose_network(blob.networks, blob.geometry, options));
   };
   const MapScore score = [](const SurfaceMap& map) { return map.measures().forward_efficiency; };
   tool::Run run("test", {.quiet = true});
@@ -70,7 +71,8 @@ TEST(MapStage, OneFailingVariantIsDroppedAndAllFailingIsAFailure) {
   EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, 1.0);
   EXPECT_NE(report_text(run.report()).find("no coarse map"), std::string::npos);
 
-  const auto choose_fails = [](const MapOptions&) -> std::unique_ptr<MapSetup> {
+  const auto choose_fails = [](const MapOptions&,
+                               std::size_t) -> std::vector<std::unique_ptr<MapSetup>> {
     throw std::runtime_error("no coarse map");
   };
   try {
@@ -86,9 +88,9 @@ TEST(MapStage, OneFailingVariantIsDroppedAndAllFailingIsAFailure) {
 TEST(MapStage, FallbackVariantsRunOnlyBelowTheThresholdAndCompete) {
   Blob blob;
   std::atomic<int> calls{0};
-  const auto choose = [&](const MapOptions& options) {
+  const auto choose = [&](const MapOptions& options, std::size_t) {
     ++calls;
-    return choose_network(blob.networks, blob.geometry, options);
+    return only(choose_network(blob.networks, blob.geometry, options));
   };
   const MapScore score = [](const SurfaceMap& map) { return map.measures().forward_efficiency; };
   const MapSettings settings{.variants = {{.inverse_stretch_weight = 1.0}},
@@ -107,6 +109,40 @@ TEST(MapStage, FallbackVariantsRunOnlyBelowTheThresholdAndCompete) {
     // The one-way score prefers the fallback's weight 0.1 when it runs.
     EXPECT_EQ(result.setup->map->options().inverse_stretch_weight, retried ? 0.1 : 1.0);
   }
+}
+
+// Contenders: the best two coarse candidates of a variant both refined
+// whole; the higher final score is kept, and both are reported.
+TEST(MapStage, ContendersAreRefinedWholeAndCompete) {
+  const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
+  const auto choose = [&](const MapOptions& options, std::size_t count) {
+    std::vector<DomainCandidate> candidates;
+    for (SimplifyPriority priority : {SimplifyPriority::quadric, SimplifyPriority::isotropic}) {
+      const ProgressiveMesh decimated = simplify_to(surface, 30, {.priority = priority});
+      const TriangleMesh base = base_mesh(decimated);
+      candidates.push_back({std::make_unique<DomainGeometry>(base, equilateral_lengths(base)),
+                            trace_path_network(surface, base, decimated.base_vertices)});
+    }
+    return rank_domains(std::move(candidates), options, 300, {}, count);
+  };
+  const MapScore score = [](const SurfaceMap& map) { return map.measures().forward_efficiency; };
+  tool::Run run("test", {.quiet = true});
+  Progress& progress = run.stage("map");
+  const MapStageResult result =
+      run_map_stage(run, progress, {.input = "blob"}, {.contenders = 2}, choose, score);
+  EXPECT_EQ(result.setup->map->validate(), std::nullopt);
+  EXPECT_EQ(result.setup->map->n_vertices(), result.setup->network.surface.n_vertices());
+  const Json& maps = run.report()["map_variants"];
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps[0]["contender"], 0);
+  EXPECT_EQ(maps[1]["contender"], 1);
+  EXPECT_NE(maps[0]["candidate"], maps[1]["candidate"]);
+  const std::size_t kept = maps[0]["kept"] == true ? 0 : 1;
+  EXPECT_EQ(maps[kept]["kept"], true);
+  EXPECT_EQ(maps[1 - kept]["kept"], false);
+  EXPECT_GE(maps[kept]["score"].get<double>(), maps[1 - kept]["score"].get<double>());
+  EXPECT_EQ(maps[kept]["candidate"], result.setup->candidate);
+  EXPECT_DOUBLE_EQ(score(*result.setup->map), maps[kept]["score"].get<double>());
 }
 
 }  // namespace
