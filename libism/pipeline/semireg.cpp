@@ -19,6 +19,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <utility>
@@ -345,6 +347,21 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   // score keeps one.
   tool::MapSettings settings = o.map;
   if (open) settings.contenders = 2;
+  // The remesh a map gives over base i (on an open surface: the base face's
+  // pieces of its closed domain).
+  auto sample_remesh = [&](const SurfaceMap& map, std::size_t i) {
+    const MapSampler sampler(map);
+    return semiregular_mesh(bases[i].mesh, o.levels, [&](int f, const Eigen::Vector3d& bary) {
+      const auto [face, at] =
+          open ? bounded[i]->locate(f, bary) : std::pair<int, Eigen::Vector3d>{f, bary};
+      const auto s = sampler.surface_point(face, at);
+      if (!s) throw std::runtime_error("a sample fell outside the map");
+      return s->position;
+    });
+  };
+  // Which base each candidate's domain is (for the score).
+  std::mutex domains_mutex;
+  std::map<const DomainGeometry*, std::size_t> base_of_domain;
   tool::Progress& progress = run.stage("map");
   const auto [chosen, stats] = tool::run_map_stage(
       run, progress,
@@ -363,6 +380,10 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
           }
           auto domain = std::make_unique<DomainGeometry>(bounded[i]->domain, bounded[i]->lengths);
           domain->set_fixed(bounded[i]->fixed);
+          {
+            const std::lock_guard<std::mutex> lock(domains_mutex);
+            base_of_domain[domain.get()] = i;
+          }
           candidates.push_back({std::move(domain), *networks[i]});
         }
         // An open surface's bases are ranked as the final map is judged
@@ -376,8 +397,20 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
               [](const SurfaceMap& m) { return m.measures().forward_efficiency; }, count);
         return tool::only(choose_domain(std::move(candidates), options, 5000));
       },
-      // Judged on the input surface: what the caps take does not count.
-      [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });
+      // Judged on the input surface: what the caps take does not count. On
+      // an open surface each folded remesh triangle costs a whole unit of
+      // efficiency (as torus-remesh's grid folds do): bunny_open's more
+      // efficient base 50 folded 54 triangles, the other 4.
+      [&](const SurfaceMap& m) {
+        const double efficiency = m.measures(input_faces.of(m)).forward_efficiency;
+        if (!open) return efficiency;
+        std::size_t i;
+        {
+          const std::lock_guard<std::mutex> lock(domains_mutex);
+          i = base_of_domain.at(&m.domain());
+        }
+        return efficiency - double(flipped_faces(sample_remesh(m, i)));
+      });
   const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
   const std::optional<BoundedBase>& chosen_bounded = bounded[candidate_base[chosen->candidate]];
@@ -395,17 +428,9 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   const MetaMesh meta = tool::validate_map(run, map);
 
   run.stage("sample");
-  const MapSampler sampler(map);
   SemiregResult result;
   TriangleMesh& remesh = result.remesh;
-  remesh = semiregular_mesh(base, o.levels, [&](int f, const Eigen::Vector3d& bary) {
-    // On an open surface: the base face's piece of the closed domain.
-    const auto [face, at] =
-        open ? chosen_bounded->locate(f, bary) : std::pair<int, Eigen::Vector3d>{f, bary};
-    const auto s = sampler.surface_point(face, at);
-    if (!s) throw std::runtime_error("a sample fell outside the map");
-    return s->position;
-  });
+  remesh = sample_remesh(map, candidate_base[chosen->candidate]);
   // The base actually used: its vertices where the map puts them.
   TriangleMesh& used_base = result.base;
   used_base = base;
