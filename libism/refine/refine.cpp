@@ -145,7 +145,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
     map.optimize_vertex(vs);
     for (int w : ring) map.optimize_vertex(w);
     check("after optimising a split");
-    for (int rings = 2; rings <= 8 && squeezed(vs); rings *= 2) {
+    for (int rings = 2; options.repair_squeezed_splits && rings <= 8 && squeezed(vs); rings *= 2) {
       ++stats.split_repairs;
       reembed_disc(map, map.rings_around(vs, rings));
       check("after re-embedding a squeezed split's disc");

@@ -60,6 +60,10 @@ struct RefineOptions {
   bool reembed_final = true;
   /// Call validate() after every split and sweep (for tests; slow).
   bool validate_each_step = false;
+  /// Re-embed the disc around a split that leaves a face squeezed almost
+  /// flat (above 1e6 x the mean face energy); off only to study the squeezed
+  /// maps it prevents.
+  bool repair_squeezed_splits = true;
   std::function<void(double)> progress;  // fraction of splits done
 };
 
