@@ -263,25 +263,18 @@ class Simplifier {
   bool network_allows(int vs, int vt, int vl, int vr) const {
     if (kind_[vs] == Kind::feature) return false;
     if (kind_[vs] == Kind::path && vt != path_prev_[vs] && vt != path_next_[vs]) return false;
-    if (max_span_ && kind_[vs] == Kind::path && loop_position_[vs] >= 0) {
-      // The loop edge left behind, from vs's other loop neighbour to vt,
-      // spans at most max_span_ edges of the input loop.
-      const bool forward = vt == path_next_[vs];
-      const int other = forward ? path_prev_[vs] : path_next_[vs];
-      const int n = loop_size_[vs];
-      const int span = forward ? (loop_position_[vt] - loop_position_[other] + n) % n
-                               : (loop_position_[other] - loop_position_[vt] + n) % n;
-      if (std::size_t(span) > max_span_) return false;
-    }
     if (!bridges_.empty() && kind_[vs] == Kind::path && loop_position_[vs] >= 0) {
-      // Nor may it span both ends of an input edge across the loop (an
-      // ear's third edge, say): the faces between would lie on one straight
-      // base edge, with no area (bounded_base refuses such a base).
+      // The loop edge left behind, from vs's other loop neighbour to vt
+      // (loop positions first .. first + span), spans at most max_span_
+      // edges of the input loop, nor both ends of an input edge across the
+      // loop (an ear's third edge, say): the faces between would lie on one
+      // straight base edge, with no area (bounded_base refuses such a base).
       const bool forward = vt == path_next_[vs];
       const int other = forward ? path_prev_[vs] : path_next_[vs];
       const int n = loop_size_[vs];
       const int first = loop_position_[forward ? other : vt];
       const int span = (loop_position_[forward ? vt : other] - first + n) % n;
+      if (max_span_ && std::size_t(span) > max_span_) return false;
       for (const auto& [i, j] : bridges_[std::size_t(loop_index_[vs])])
         if ((i - first + n) % n <= span && (j - first + n) % n <= span) return false;
     }

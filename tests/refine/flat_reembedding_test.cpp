@@ -201,6 +201,10 @@ TEST(FlatReembedding, RefineWithReembeddingsStaysValid) {
   EXPECT_LT(s.map.energy(), plain.map.energy() * (1 + 1e-3));
 }
 
+TriangleMesh shared_mug() {
+  return prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "mug.obj")).mesh;
+}
+
 // The mug's map, optimised a vertex at a time, squeezes strips of faces
 // that single moves cannot open; the global step does. (refine() now
 // re-embeds the disc around a split that squeezes a face almost flat, which
@@ -208,9 +212,7 @@ TEST(FlatReembedding, RefineWithReembeddingsStaysValid) {
 // that repair is off here to make the stuck map.)
 TEST(FlatReembedding, FreesTheMugsStuckMap) {
   ISM_REQUIRE_SHARED_MODELS();
-  const TriangleMesh mug =
-      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "mug.obj")).mesh;
-  TorusMap s(mug);
+  TorusMap s(shared_mug());
   RefineOptions options;
   options.stop_at_vertices = 3000;
   options.repair_squeezed_splits = false;
@@ -239,9 +241,7 @@ TEST(FlatReembedding, FreesTheMugsStuckMap) {
 // around them re-embedded, no face stays squeezed (2e8 above).
 TEST(FlatReembedding, SqueezedSplitsAreRepairedOnTheMug) {
   ISM_REQUIRE_SHARED_MODELS();
-  const TriangleMesh mug =
-      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "mug.obj")).mesh;
-  TorusMap s(mug);
+  TorusMap s(shared_mug());
   RefineOptions options;
   options.stop_at_vertices = 3000;
   const RefineStats stats = refine(s.map, options);

@@ -2,6 +2,7 @@
 // candidates share a domain (octahedral networks) or bring their own (bases).
 #include "refine/network_choice.hpp"
 #include "domain/domain.hpp"
+#include "domain_candidates.hpp"
 #include "map/map.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
@@ -74,13 +75,7 @@ TEST(NetworkChoice, CandidatesWithTheirOwnDomains) {
 // kept, best first (fewer when fewer there are).
 TEST(NetworkChoice, RanksCandidatesByAScore) {
   const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
-  std::vector<DomainCandidate> candidates;
-  for (SimplifyPriority priority : {SimplifyPriority::quadric, SimplifyPriority::isotropic}) {
-    const ProgressiveMesh decimated = simplify_to(surface, 30, {.priority = priority});
-    const TriangleMesh base = base_mesh(decimated);
-    candidates.push_back({std::make_unique<DomainGeometry>(base, equilateral_lengths(base)),
-                          trace_path_network(surface, base, decimated.base_vertices)});
-  }
+  std::vector<DomainCandidate> candidates = test::decimated_candidates(surface, 30);
   const CoarseScore one_way = [](const SurfaceMap& m) { return m.measures().forward_efficiency; };
   const auto ranked = rank_domains(std::move(candidates), {}, coarse_vertices, one_way, 5);
   ASSERT_EQ(ranked.size(), 2u);

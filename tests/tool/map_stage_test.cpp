@@ -2,6 +2,7 @@
 // score kept and reported, failures of single variants tolerated.
 #include "tool/map_stage.hpp"
 #include "domain/domain.hpp"
+#include "domain_candidates.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
@@ -116,14 +117,7 @@ TEST(MapStage, FallbackVariantsRunOnlyBelowTheThresholdAndCompete) {
 TEST(MapStage, ContendersAreRefinedWholeAndCompete) {
   const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
   const auto choose = [&](const MapOptions& options, std::size_t count) {
-    std::vector<DomainCandidate> candidates;
-    for (SimplifyPriority priority : {SimplifyPriority::quadric, SimplifyPriority::isotropic}) {
-      const ProgressiveMesh decimated = simplify_to(surface, 30, {.priority = priority});
-      const TriangleMesh base = base_mesh(decimated);
-      candidates.push_back({std::make_unique<DomainGeometry>(base, equilateral_lengths(base)),
-                            trace_path_network(surface, base, decimated.base_vertices)});
-    }
-    return rank_domains(std::move(candidates), options, 300, {}, count);
+    return rank_domains(test::decimated_candidates(surface, 30), options, 300, {}, count);
   };
   const MapScore score = [](const SurfaceMap& map) { return map.measures().forward_efficiency; };
   tool::Run run("test", {.quiet = true});
