@@ -458,8 +458,8 @@ PYBIND11_MODULE(ism, m) {
       "semireg",
       [semireg_result](const py::object& surface, const py::object& faces, const py::object& base,
                        const py::object& base_vertices, std::size_t base_size, int levels,
-                       bool hold_features, int final_sweeps, std::optional<double> inverse_weight,
-                       std::optional<double> curvature_weight,
+                       bool grid_points, bool hold_features, int final_sweeps,
+                       std::optional<double> inverse_weight, std::optional<double> curvature_weight,
                        std::optional<double> anisotropy_weight,
                        std::optional<double> anisotropy_threshold, const py::object& output,
                        const py::object& write_base, int draco_bits, bool glb_draco,
@@ -480,6 +480,7 @@ PYBIND11_MODULE(ism, m) {
         o.base_vertices = feature_source(base_vertices, "base_vertices");
         o.base_size = base_size;
         o.levels = levels;
+        o.unfold = !grid_points;
         o.output = optional_path(output);
         o.write_base = optional_path(write_base);
         o.dump_patches = optional_path(dump_patches);
@@ -496,17 +497,18 @@ PYBIND11_MODULE(ism, m) {
             faces_array(r.base.triangles), rep);
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "base"_a = py::none(),
-      "base_vertices"_a = py::none(), "base_size"_a = 0, "levels"_a = 4, "hold_features"_a = false,
-      "final_sweeps"_a = 8, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
-      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
-      "output"_a = py::none(), "write_base"_a = py::none(), "draco_bits"_a = 14,
-      "glb_draco"_a = false, "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
-      "report"_a = py::none(), "quiet"_a = false,
+      "base_vertices"_a = py::none(), "base_size"_a = 0, "levels"_a = 4, "grid_points"_a = false,
+      "hold_features"_a = false, "final_sweeps"_a = 8, "inverse_weight"_a = py::none(),
+      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
+      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "write_base"_a = py::none(),
+      "draco_bits"_a = 14, "glb_draco"_a = false, "dump_patches"_a = py::none(),
+      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
       "semireg(path or V, F, *, base=... | base_vertices=... | base_size=N, levels=4, ...) -> "
       "SemiregResult(vertices, faces, base_vertices, base_faces, report)\n\n"
-      "Semi-regular remesh of a closed surface of any genus, as the semireg tool (same options\n"
-      "and defaults). Exactly one base: base (a mesh path or a tuple (V, F)), base_vertices (a\n"
-      "file path, vertex indices or points) or base_size (decimate to N vertices). output and\n"
+      "Semi-regular remesh of a surface of any genus, closed or open, as the semireg tool (same\n"
+      "options and defaults; grid_points is --grid-points). Exactly one base: base (a mesh\n"
+      "path or a tuple (V, F)), base_vertices (a file path, vertex indices or points) or\n"
+      "base_size (decimate to N vertices). output and\n"
       "write_base (.obj .ply .off .stl .drc .glb), dump_patches, meta_mesh, report are written\n"
       "when given.");
 
@@ -578,7 +580,7 @@ PYBIND11_MODULE(ism, m) {
         float* data = out.mutable_data();
         for (std::size_t i = 0; i < image.pixels.size(); ++i)
           for (int k = 0; k < 3; ++k) data[3 * i + k] = float(image.pixels[i][k]);
-        if (!with_alpha) return std::move(out);
+        if (!with_alpha) return py::object(std::move(out));
         return py::make_tuple(out, alpha_array(image));
       },
       "path"_a, "alpha"_a = false,

@@ -23,6 +23,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <tuple>
 #include <utility>
 
 namespace ism::pipeline {
@@ -351,13 +352,20 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   // pieces of its closed domain).
   auto sample_remesh = [&](const SurfaceMap& map, std::size_t i) {
     const MapSampler sampler(map);
-    return semiregular_mesh(bases[i].mesh, o.levels, [&](int f, const Eigen::Vector3d& bary) {
+    const auto point = [&](int f, const Eigen::Vector3d& bary) {
       const auto [face, at] =
           open ? bounded[i]->locate(f, bary) : std::pair<int, Eigen::Vector3d>{f, bary};
       const auto s = sampler.surface_point(face, at);
       if (!s) throw std::runtime_error("a sample fell outside the map");
       return s->position;
-    });
+    };
+    std::pair<TriangleMesh, UnfoldReport> out{semiregular_mesh(bases[i].mesh, o.levels, point),
+                                              UnfoldReport{}};
+    if (o.unfold)
+      out.second = unfold_semiregular(bases[i].mesh, o.levels, point, out.first);
+    else
+      out.second.folds_before = out.second.folds_after = flipped_faces(out.first);
+    return out;
   };
   // Which base each candidate's domain is (for the score).
   std::mutex domains_mutex;
@@ -409,7 +417,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
           const std::lock_guard<std::mutex> lock(domains_mutex);
           i = base_of_domain.at(&m.domain());
         }
-        return efficiency - double(flipped_faces(sample_remesh(m, i)));
+        return efficiency - double(sample_remesh(m, i).second.folds_after);
       });
   const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
@@ -430,7 +438,8 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   run.stage("sample");
   SemiregResult result;
   TriangleMesh& remesh = result.remesh;
-  remesh = sample_remesh(map, candidate_base[chosen->candidate]);
+  UnfoldReport unfolded;
+  std::tie(remesh, unfolded) = sample_remesh(map, candidate_base[chosen->candidate]);
   // The base actually used: its vertices where the map puts them.
   TriangleMesh& used_base = result.base;
   used_base = base;
@@ -457,8 +466,11 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();
-  const std::size_t flipped = flipped_faces(remesh);
+  const std::size_t flipped = unfolded.folds_after;
   sj["flipped_triangles"] = flipped;
+  // Before the folds were re-sampled, and how many vertices that moved.
+  sj["flipped_triangles_at_grid_points"] = unfolded.folds_before;
+  sj["resampled_vertices"] = unfolded.moved_vertices;
   // The same measure on the input: folds the remesh inherits from creases.
   sj["input_flipped_triangles"] = flipped_faces(surface);
   r["distance"] = distance_report(distance);

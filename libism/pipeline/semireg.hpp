@@ -23,6 +23,10 @@ struct SemiregOptions {
   io::FeatureSource base_vertices;  // base vertices only, connected by their Voronoi regions
   std::size_t base_size = 0;        // decimate to a base of this many vertices (0: not)
   int levels = 4;                   // subdivisions of each base face: faces × 4^levels
+  // Re-sample the vertices of folded remesh triangles at nearby points of
+  // their base face or edge (unfold_semiregular()); off: every vertex at its
+  // grid point.
+  bool unfold = true;
   // Files written when named: the remesh, the base used (.obj .ply .off .stl
   // .drc .glb), the PLY of the patches.
   std::string output, write_base, dump_patches;

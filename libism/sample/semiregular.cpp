@@ -14,9 +14,7 @@ std::uint64_t edge_key(int a, int b) {
 
 }  // namespace
 
-TriangleMesh semiregular_mesh(
-    const TriangleMesh& base, int levels,
-    const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point) {
+SemiregularLayout semiregular_layout(const TriangleMesh& base, int levels) {
   if (levels < 0 || levels > 10)
     throw std::invalid_argument("semiregular_mesh: levels must be in 0..10");
   const int n = 1 << levels;
@@ -41,14 +39,16 @@ TriangleMesh semiregular_mesh(
   const std::size_t per_face = n >= 2 ? std::size_t(n - 1) * std::size_t(n - 2) / 2 : 0;
   const std::size_t edge_start = std::size_t(nv);
   const std::size_t face_start = edge_start + per_edge * std::size_t(n_edges);
-  TriangleMesh out;
-  out.positions.assign(face_start + per_face * std::size_t(nf), Vec3::Zero());
+  SemiregularLayout out;
+  out.levels = levels;
+  out.sites.assign(face_start + per_face * std::size_t(nf), SemiregularSite{});
   out.triangles.reserve(std::size_t(nf) * std::size_t(n) * std::size_t(n));
-  std::vector<char> done(out.positions.size(), 0);
-  auto sample = [&](std::size_t v, int f, const Eigen::Vector3d& bary) {
-    if (done[v]) return;
-    out.positions[v] = point(f, bary);
-    done[v] = 1;
+  out.second_sites.assign(out.sites.size(), SemiregularSite{});
+  auto place = [&](std::size_t v, int f, int i, int j) {
+    if (out.sites[v].face < 0)
+      out.sites[v] = {f, i, j};
+    else if (v >= edge_start && v < face_start)
+      out.second_sites[v] = {f, i, j};
   };
 
   // Grid point (i, j) of a face: weights ((n-i-j)/n, i/n, j/n) of corners 0, 1, 2.
@@ -56,14 +56,11 @@ TriangleMesh semiregular_mesh(
   auto at = [&](int i, int j) -> int& { return grid[std::size_t(j) * (n + 1) + i]; };
   for (int f = 0; f < nf; ++f) {
     const Triangle& t = base.triangles[f];
-    auto bary = [&](int i, int j) {
-      return Eigen::Vector3d(double(n - i - j) / n, double(i) / n, double(j) / n);
-    };
     // Corners.
     const int ci[3] = {0, n, 0}, cj[3] = {0, 0, n};
     for (int k = 0; k < 3; ++k) {
       at(ci[k], cj[k]) = t[k];
-      sample(std::size_t(t[k]), f, bary(ci[k], cj[k]));
+      place(std::size_t(t[k]), f, ci[k], cj[k]);
     }
     // Edges: corner k to corner k+1, step s = 1..n-1 from corner k.
     for (int k = 0; k < 3; ++k) {
@@ -76,7 +73,7 @@ TriangleMesh semiregular_mesh(
         const int from_low = a < b ? s : n - s;  // parameter from the lower endpoint
         const std::size_t v = first + std::size_t(from_low - 1);
         at(i, j) = int(v);
-        sample(v, f, bary(i, j));
+        place(v, f, i, j);
       }
     }
     // Interior.
@@ -84,7 +81,7 @@ TriangleMesh semiregular_mesh(
     for (int j = 1; j < n; ++j)
       for (int i = 1; i + j < n; ++i, ++v) {
         at(i, j) = int(v);
-        sample(v, f, bary(i, j));
+        place(v, f, i, j);
       }
     for (int j = 0; j < n; ++j)
       for (int i = 0; i + j < n; ++i) {
@@ -92,9 +89,26 @@ TriangleMesh semiregular_mesh(
         if (i + j + 2 <= n) out.triangles.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
       }
   }
-  // Base vertices on no face keep their own position.
-  for (int v = 0; v < nv; ++v)
-    if (!done[v]) out.positions[v] = base.positions[v];
+  return out;
+}
+
+Eigen::Vector3d SemiregularLayout::weights(double i, double j) const {
+  const double n = double(1 << levels);
+  return Eigen::Vector3d((n - i - j) / n, i / n, j / n);
+}
+
+TriangleMesh semiregular_mesh(
+    const TriangleMesh& base, int levels,
+    const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point) {
+  SemiregularLayout layout = semiregular_layout(base, levels);
+  TriangleMesh out;
+  out.triangles = std::move(layout.triangles);
+  out.positions.resize(layout.sites.size());
+  for (std::size_t v = 0; v < layout.sites.size(); ++v) {
+    const SemiregularSite& s = layout.sites[v];
+    // Base vertices on no face keep their own position.
+    out.positions[v] = s.face < 0 ? base.positions[v] : point(s.face, layout.weights(s.i, s.j));
+  }
   return out;
 }
 

@@ -9,8 +9,32 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 namespace ism {
+
+/// Where a vertex of semiregular_mesh() is sampled: grid point (i, j) of
+/// base face `face`, i.e. weights ((N-i-j)/N, i/N, j/N) of its corners 0, 1,
+/// 2. A vertex shared by several faces (base vertex, base edge vertex) is
+/// sited on the first face that holds it; face -1 for a base vertex on no face.
+struct SemiregularSite {
+  int face = -1;
+  int i = 0, j = 0;
+};
+
+/// The connectivity of semiregular_mesh() and where each vertex is sampled,
+/// without sampling. Throws std::invalid_argument as semiregular_mesh().
+struct SemiregularLayout {
+  int levels = 0;
+  std::vector<SemiregularSite> sites;  // one per output vertex
+  /// A vertex inside a base edge of two faces: its grid point on the second
+  /// face; face -1 for any other vertex.
+  std::vector<SemiregularSite> second_sites;
+  std::vector<Triangle> triangles;
+  /// Barycentric weights of grid point (i, j), fractional points included.
+  Eigen::Vector3d weights(double i, double j) const;
+};
+SemiregularLayout semiregular_layout(const TriangleMesh& base, int levels);
 
 /// The semi-regular mesh of `base` at `levels` (0..10) subdivision levels.
 /// `point(f, bary)` gives the position of the base-face point with
@@ -47,5 +71,28 @@ TriangleMesh semiregular_mesh(
 /// `fine` in increasing index order (so the first `base_vertices` keep their
 /// indices), with their positions. Returns false otherwise.
 bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMesh& coarse);
+
+/// What unfold_semiregular() did.
+struct UnfoldReport {
+  std::size_t folds_before = 0;    // flipped_faces() of the mesh as given
+  std::size_t folds_after = 0;     // ... as returned
+  std::size_t moved_vertices = 0;  // vertices sampled elsewhere than their grid point
+};
+
+/// Re-samples the vertices of folded triangles (the test of flipped_faces())
+/// of `mesh`, made by semiregular_mesh(base, levels, point), at nearby points
+/// of their base faces: a vertex moves towards one of its grid neighbours by
+/// a quarter, half or three quarters of the grid step, a vertex on a base boundary edge only
+/// along that edge (so it stays on the boundary); base vertices never move. A move is kept when it
+/// lowers the number of folded triangles that it can change; rounds over the remaining folds repeat
+/// while any move is kept (at most `max_rounds`). The connectivity is unchanged and every vertex
+/// stays a value of `point`. Folds where the mapped surface itself folds (a crease sharper than the
+/// grid) may stay. `point` is called again for each tried position; one that
+/// throws is not tried. Throws std::invalid_argument when `mesh` is not the
+/// semi-regular mesh of `base` at `levels` (vertex or face count).
+UnfoldReport unfold_semiregular(
+    const TriangleMesh& base, int levels,
+    const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point, TriangleMesh& mesh,
+    int max_rounds = 8);
 
 }  // namespace ism

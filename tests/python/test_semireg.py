@@ -46,7 +46,9 @@ def test_semireg_is_the_tools(runs):
 def test_a_base_given_as_arrays(runs, meshes):
     _, r = runs
     again = ism.semireg(*ism.read_mesh(meshes["blob"]), base=(r.base_vertices, r.base_faces),
-                        levels=1, quiet=True)
+                        levels=1, grid_points=True, quiet=True)
+    # grid_points (--grid-points): no vertex re-sampled off its grid point.
+    assert again.report["remesh"]["resampled_vertices"] == 0
     assert len(again.faces) == len(r.base_faces) * 4
     assert again.report["base"]["source"] == "file" and again.report["base"]["file"] == "base"
     # The same connectivity, its vertices snapped to nearby surface vertices.

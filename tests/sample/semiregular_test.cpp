@@ -4,10 +4,13 @@
 
 #include "domain/domain.hpp"
 #include "mesh/mesh_check.hpp"
+#include "metrics/metrics.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 namespace ism {
 namespace {
@@ -166,6 +169,91 @@ TEST(Semiregular, UnsubdivideRefusesMeshesThatAreNotSubdivisions) {
   mesh.triangles[0] = {t0[2], opposite, t0[1]};
   mesh.triangles[other] = {opposite, t0[2], t0[0]};
   EXPECT_FALSE(unsubdivide(mesh, base.n_vertices(), coarse));
+}
+
+// A flat square of two faces sampled at level 3, one vertex's sample thrown
+// 1.5 grid steps off (a point function that jumps there alone): its
+// triangles fold over their neighbours. unfold_semiregular() re-samples that
+// vertex nearby, and nothing else.
+struct SpikedSquare {
+  TriangleMesh base;
+  SemiregularLayout layout;
+  int spiked = -1;
+  Vec3 offset;
+  int levels = 3;
+
+  SpikedSquare(int face, int i, int j, Vec3 off) : offset(std::move(off)) {
+    base.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    base.triangles = {{0, 1, 2}, {0, 2, 3}};
+    layout = semiregular_layout(base, levels);
+    for (std::size_t v = 0; v < layout.sites.size(); ++v) {
+      const SemiregularSite& s = layout.sites[v];
+      if (s.face == face && s.i == i && s.j == j) spiked = int(v);
+    }
+  }
+  Vec3 point(int f, const Eigen::Vector3d& b) const {
+    const SemiregularSite& s = layout.sites[std::size_t(spiked)];
+    const Vec3 p = flat_point(base, f, b);
+    return f == s.face && b == layout.weights(s.i, s.j) ? Vec3(p + offset) : p;
+  }
+};
+
+TEST(Semiregular, UnfoldResamplesAFoldedVertexNearby) {
+  const double step = 1.0 / 8;
+  // Inside face 0, thrown past its neighbour (i + 1, j); on the boundary
+  // edge y = 0, thrown inwards past the next row.
+  for (const auto& [i, j, offset] :
+       {std::tuple{3, 2, Vec3(1.5 * step, 0, 0)}, std::tuple{4, 0, Vec3(0, 1.5 * step, 0)}}) {
+    SCOPED_TRACE(::testing::Message() << "grid point " << i << ", " << j);
+    const SpikedSquare square(0, i, j, offset);
+    ASSERT_GE(square.spiked, int(square.base.n_vertices()));
+    const auto point = [&](int f, const Eigen::Vector3d& b) { return square.point(f, b); };
+    TriangleMesh mesh = semiregular_mesh(square.base, square.levels, point);
+    const TriangleMesh given = mesh;
+    const std::size_t folds = flipped_faces(mesh);
+    ASSERT_GT(folds, 0u);
+
+    const UnfoldReport r = unfold_semiregular(square.base, square.levels, point, mesh);
+    EXPECT_EQ(r.folds_before, folds);
+    EXPECT_EQ(r.folds_after, 0u);
+    EXPECT_EQ(flipped_faces(mesh), 0u);
+    EXPECT_EQ(r.moved_vertices, 1u);
+    EXPECT_EQ(mesh.triangles, given.triangles);
+    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+      if (int(v) != square.spiked) {
+        EXPECT_EQ(mesh.positions[v], given.positions[v]) << v;
+      }
+    // Now a plain sample of the square, within three quarters of a grid step
+    // (the diagonal one: sqrt 2 steps) of its grid point; on the boundary
+    // edge, still on it.
+    const Vec3 grid_point = flat_point(square.base, 0, square.layout.weights(i, j)),
+               p = mesh.positions[std::size_t(square.spiked)];
+    EXPECT_EQ(p.z(), 0.0);
+    EXPECT_LE((p - grid_point).norm(), 0.75 * std::sqrt(2.0) * step + 1e-12);
+    EXPECT_NE(p, grid_point + offset);
+    if (j == 0) {
+      EXPECT_EQ(p.y(), 0.0);
+    }
+  }
+}
+
+TEST(Semiregular, UnfoldNeverMovesBaseVertices) {
+  // Base vertex 0 (grid point (0, 0) of face 0), thrown into the square: it
+  // folds its corner triangles, and stays where it was thrown.
+  const SpikedSquare square(0, 0, 0, Vec3(0.4, 0.2, 0));
+  ASSERT_EQ(square.spiked, 0);
+  const auto point = [&](int f, const Eigen::Vector3d& b) { return square.point(f, b); };
+  TriangleMesh mesh = semiregular_mesh(square.base, square.levels, point);
+  const std::size_t folds = flipped_faces(mesh);
+  ASSERT_GT(folds, 0u);
+  const UnfoldReport r = unfold_semiregular(square.base, square.levels, point, mesh);
+  EXPECT_EQ(r.folds_before, folds);
+  EXPECT_EQ(mesh.positions[0], Vec3(0.4, 0.2, 0));
+  EXPECT_EQ(r.folds_after, flipped_faces(mesh));
+  EXPECT_GT(r.folds_after, 0u);
+
+  TriangleMesh other = semiregular_mesh(square.base, 2, point);
+  EXPECT_THROW(unfold_semiregular(square.base, 3, point, other), std::invalid_argument);
 }
 
 }  // namespace

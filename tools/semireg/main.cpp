@@ -32,12 +32,16 @@ int main(int argc, char** argv) {
   vertices->excludes(base)->excludes(size);
   app.add_option("--levels", o.levels, "Subdivision levels of each base face (faces x 4^levels)")
       ->check(CLI::Range(0, 8));
+  bool grid_points = false;
+  app.add_flag("--grid-points", grid_points,
+               "Every vertex at its grid point: folded triangles are not re-sampled nearby");
   app.add_option("--write-base", o.write_base, "Write the base used, its vertices on the surface");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   ism::tool::add_map_options(app, o.map);
   ism::tool::add_mesh_file_options(app, o.mesh_file);
   ism::tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
+  o.unfold = !grid_points;
   return ism::tool::run_main("semireg", [&] {
     ism::tool::Run run("semireg", common);
     ism::pipeline::semireg(run, o);
