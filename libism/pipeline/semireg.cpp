@@ -440,7 +440,8 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   TriangleMesh& remesh = result.remesh;
   UnfoldReport unfolded;
   std::tie(remesh, unfolded) = sample_remesh(map, candidate_base[chosen->candidate]);
-  // The base actually used: its vertices where the map puts them.
+  // The base actually used: its vertices where the remesh has them (the
+  // map's images of the base vertices, unless a fold re-sampled one).
   TriangleMesh& used_base = result.base;
   used_base = base;
   for (std::size_t v = 0; v < used_base.n_vertices(); ++v)

@@ -36,7 +36,7 @@ struct SemiregOptions {
 
 struct SemiregResult {
   TriangleMesh remesh;  // the base's vertices first, then the edges' and faces' samples
-  TriangleMesh base;    // the base used, its vertices where the map puts them
+  TriangleMesh base;    // the base used, its vertices the remesh's first ones
 };
 
 /// Runs semireg in `run` (stages, progress, report, the files named in

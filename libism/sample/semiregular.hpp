@@ -81,15 +81,18 @@ struct UnfoldReport {
 
 /// Re-samples the vertices of folded triangles (the test of flipped_faces())
 /// of `mesh`, made by semiregular_mesh(base, levels, point), at nearby points
-/// of their base faces: a vertex moves towards one of its grid neighbours by
-/// a quarter, half or three quarters of the grid step, a vertex on a base boundary edge only
-/// along that edge (so it stays on the boundary); base vertices never move. A move is kept when it
-/// lowers the number of folded triangles that it can change; rounds over the remaining folds repeat
-/// while any move is kept (at most `max_rounds`). The connectivity is unchanged and every vertex
-/// stays a value of `point`. Folds where the mapped surface itself folds (a crease sharper than the
-/// grid) may stay. `point` is called again for each tried position; one that
-/// throws is not tried. Throws std::invalid_argument when `mesh` is not the
-/// semi-regular mesh of `base` at `levels` (vertex or face count).
+/// of the base faces holding them: a quarter, half or three quarters of the
+/// way to one of their grid neighbours. A vertex on the base's boundary (a
+/// base boundary vertex, or a vertex inside a base boundary edge) moves only
+/// along a base boundary edge, so it stays on the boundary; base vertices
+/// move like the others. A move is kept when it lowers the number of folded
+/// triangles it can change; rounds over the remaining folds repeat while any
+/// move is kept (at most `max_rounds`). The connectivity is unchanged and
+/// every vertex stays a value of `point`. Folds wider than these moves (a
+/// crease of the mapped surface sharper than the grid) may stay. `point` is
+/// called again for each tried position; one that throws is not tried.
+/// Throws std::invalid_argument when `mesh` is not the semi-regular mesh of
+/// `base` at `levels` (vertex or face count).
 UnfoldReport unfold_semiregular(
     const TriangleMesh& base, int levels,
     const std::function<Vec3(int face, const Eigen::Vector3d& bary)>& point, TriangleMesh& mesh,

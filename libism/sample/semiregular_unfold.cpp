@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <exception>
+#include <map>
 #include <span>
 #include <stdexcept>
+#include <utility>
 
 namespace ism {
 
@@ -103,42 +105,76 @@ UnfoldReport unfold_semiregular(
   const std::vector<Vec3> given = mesh.positions;
   std::vector<std::size_t> folded = all_folded();
   report.folds_before = folded.size();
+
+  // Which face edges are base boundary edges (edge k: corner k to k + 1),
+  // and the faces at each base vertex.
+  const std::size_t nb = base.n_vertices();
+  std::map<std::pair<int, int>, int> edge_faces;
+  for (const Triangle& t : base.triangles)
+    for (int k = 0; k < 3; ++k) ++edge_faces[std::minmax(t[k], t[(k + 1) % 3])];
+  auto boundary_edge = [&](int f, int k) {
+    const Triangle& t = base.triangles[std::size_t(f)];
+    return edge_faces[std::minmax(t[k], t[(k + 1) % 3])] == 1;
+  };
+  std::vector<char> on_boundary(mesh.n_vertices(), 0);
+  std::vector<std::vector<SemiregularSite>> corner_sites(nb);
+  const int corner_i[3] = {0, n, 0}, corner_j[3] = {0, 0, n};
+  for (int f = 0; f < int(base.n_faces()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int v = base.triangles[std::size_t(f)][k];
+      corner_sites[std::size_t(v)].push_back({f, corner_i[k], corner_j[k]});
+      if (boundary_edge(f, k))
+        on_boundary[std::size_t(v)] = on_boundary[std::size_t(base.triangles[f][(k + 1) % 3])] = 1;
+    }
+  for (std::size_t v = nb; v < mesh.n_vertices(); ++v) {
+    const SemiregularSite& s = layout.sites[v];
+    if (s.face >= 0 && layout.second_sites[v].face < 0)
+      on_boundary[v] = (s.j == 0 && boundary_edge(s.face, 0)) ||
+                       (s.i + s.j == n && boundary_edge(s.face, 1)) ||
+                       (s.i == 0 && boundary_edge(s.face, 2));
+  }
+  // The face edge a move from (i, j) by (di, dj) runs along, if any.
+  auto along_boundary = [&](const SemiregularSite& s, const int d[2]) {
+    return (s.j == 0 && d[1] == 0 && boundary_edge(s.face, 0)) ||
+           (s.i + s.j == n && d[0] + d[1] == 0 && boundary_edge(s.face, 1)) ||
+           (s.i == 0 && d[0] == 0 && boundary_edge(s.face, 2));
+  };
+
   // Grid directions (di, dj): the six neighbours of an interior grid point.
   static constexpr int kDirections[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
   static constexpr double kSteps[3] = {0.25, 0.5, 0.75};
+  std::vector<SemiregularSite> sites;
   for (int round = 0; round < max_rounds && !folded.empty(); ++round) {
     std::vector<int> vertices;
     for (std::size_t f : folded)
-      for (int v : mesh.triangles[f])
-        if (std::size_t(v) >= base.n_vertices()) vertices.push_back(v);
+      for (int v : mesh.triangles[f]) vertices.push_back(v);
     std::sort(vertices.begin(), vertices.end());
     vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
     bool kept = false;
     for (int v : vertices) {
-      // The vertex's grid point on each base face holding it (two for a
-      // vertex inside a base edge between two faces).
-      const SemiregularSite sites[2] = {layout.sites[std::size_t(v)],
-                                        layout.second_sites[std::size_t(v)]};
-      if (sites[0].face < 0) continue;
-      const SemiregularSite& s0 = sites[0];
-      const bool on_boundary = (s0.j == 0 || s0.i == 0 || s0.i + s0.j == n) && sites[1].face < 0;
+      // The vertex's grid point on each base face holding it.
+      sites.clear();
+      if (std::size_t(v) < nb) {
+        sites = corner_sites[std::size_t(v)];
+      } else {
+        for (const SemiregularSite& s :
+             {layout.sites[std::size_t(v)], layout.second_sites[std::size_t(v)]})
+          if (s.face >= 0) sites.push_back(s);
+      }
       test.influenced(v, around);
       std::size_t best = count_folds(around);
       const Vec3 original = mesh.positions[std::size_t(v)];
       Vec3 best_position = original;
       for (double step : kSteps)
-        for (const SemiregularSite& s : sites) {
-          if (s.face < 0) continue;
+        for (const SemiregularSite& s : sites)
           for (const auto& d : kDirections) {
-            const double i = s.i + step * d[0], j = s.j + step * d[1];
-            if (i < 0 || j < 0 || i + j > n) continue;  // outside the face
-            // On a boundary edge (j = 0, i = 0 or i + j = n), along it.
-            if (on_boundary &&
-                !((s.j == 0 && j == 0) || (s.i == 0 && i == 0) || (s.i + s.j == n && i + j == n)))
-              continue;
+            if (s.i + d[0] < 0 || s.j + d[1] < 0 || s.i + d[0] + s.j + d[1] > n)
+              continue;  // no grid neighbour there
+            // On the base's boundary: along a boundary edge only.
+            if (on_boundary[std::size_t(v)] && !along_boundary(s, d)) continue;
             Vec3 p;
             try {
-              p = point(s.face, layout.weights(i, j));
+              p = point(s.face, layout.weights(s.i + step * d[0], s.j + step * d[1]));
             } catch (const std::exception&) {
               continue;
             }
@@ -147,7 +183,6 @@ UnfoldReport unfold_semiregular(
             const std::size_t c = count_folds(around);
             if (c < best) best = c, best_position = p;
           }
-        }
       mesh.positions[std::size_t(v)] = best_position;
       test.update_around(v);
       if (best_position != original) kept = true;

@@ -171,10 +171,10 @@ TEST(Semiregular, UnsubdivideRefusesMeshesThatAreNotSubdivisions) {
   EXPECT_FALSE(unsubdivide(mesh, base.n_vertices(), coarse));
 }
 
-// A flat square of two faces sampled at level 3, one vertex's sample thrown
-// 1.5 grid steps off (a point function that jumps there alone): its
-// triangles fold over their neighbours. unfold_semiregular() re-samples that
-// vertex nearby, and nothing else.
+// A flat square sampled at level 3 (two faces, or four around a centre
+// vertex), one vertex's sample thrown off (a point function that jumps there
+// alone): its triangles fold over their neighbours. unfold_semiregular()
+// re-samples that vertex nearby, and nothing else.
 struct SpikedSquare {
   TriangleMesh base;
   SemiregularLayout layout;
@@ -182,9 +182,14 @@ struct SpikedSquare {
   Vec3 offset;
   int levels = 3;
 
-  SpikedSquare(int face, int i, int j, Vec3 off) : offset(std::move(off)) {
+  // The vertex sampled at grid point (i, j) of `face`.
+  SpikedSquare(bool fan, int face, int i, int j, Vec3 off) : offset(std::move(off)) {
     base.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
     base.triangles = {{0, 1, 2}, {0, 2, 3}};
+    if (fan) {
+      base.positions.push_back(Vec3(0.5, 0.5, 0));
+      base.triangles = {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+    }
     layout = semiregular_layout(base, levels);
     for (std::size_t v = 0; v < layout.sites.size(); ++v) {
       const SemiregularSite& s = layout.sites[v];
@@ -200,13 +205,23 @@ struct SpikedSquare {
 
 TEST(Semiregular, UnfoldResamplesAFoldedVertexNearby) {
   const double step = 1.0 / 8;
-  // Inside face 0, thrown past its neighbour (i + 1, j); on the boundary
-  // edge y = 0, thrown inwards past the next row.
-  for (const auto& [i, j, offset] :
-       {std::tuple{3, 2, Vec3(1.5 * step, 0, 0)}, std::tuple{4, 0, Vec3(0, 1.5 * step, 0)}}) {
-    SCOPED_TRACE(::testing::Message() << "grid point " << i << ", " << j);
-    const SpikedSquare square(0, i, j, offset);
-    ASSERT_GE(square.spiked, int(square.base.n_vertices()));
+  struct Case {
+    const char* what;
+    bool fan;
+    int face, i, j;
+    Vec3 offset;
+    int boundary_axis;  // -1, or the coordinate that must stay 0 (a boundary)
+  };
+  const Case cases[] = {
+      {"inside face 0, thrown past its neighbour", false, 0, 3, 2, Vec3(1.5 * step, 0, 0), -1},
+      {"on the boundary edge y = 0, thrown inwards", false, 0, 4, 0, Vec3(0, 1.5 * step, 0), 1},
+      {"base vertex 0, a corner, thrown inside", false, 0, 0, 0, Vec3(0.4, 0.2, 0), -2},
+      {"the centre base vertex, thrown", true, 0, 0, 8, Vec3(0.3, 0.05, 0), -1},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const SpikedSquare square(c.fan, c.face, c.i, c.j, c.offset);
+    ASSERT_GE(square.spiked, 0);
     const auto point = [&](int f, const Eigen::Vector3d& b) { return square.point(f, b); };
     TriangleMesh mesh = semiregular_mesh(square.base, square.levels, point);
     const TriangleMesh given = mesh;
@@ -224,33 +239,39 @@ TEST(Semiregular, UnfoldResamplesAFoldedVertexNearby) {
         EXPECT_EQ(mesh.positions[v], given.positions[v]) << v;
       }
     // Now a plain sample of the square, within three quarters of a grid step
-    // (the diagonal one: sqrt 2 steps) of its grid point; on the boundary
-    // edge, still on it.
-    const Vec3 grid_point = flat_point(square.base, 0, square.layout.weights(i, j)),
+    // (the diagonal one: sqrt 2 steps) of its grid point; on the square's
+    // boundary, still on it.
+    const Vec3 grid_point = flat_point(square.base, c.face, square.layout.weights(c.i, c.j)),
                p = mesh.positions[std::size_t(square.spiked)];
     EXPECT_EQ(p.z(), 0.0);
     EXPECT_LE((p - grid_point).norm(), 0.75 * std::sqrt(2.0) * step + 1e-12);
-    EXPECT_NE(p, grid_point + offset);
-    if (j == 0) {
-      EXPECT_EQ(p.y(), 0.0);
+    EXPECT_NE(p, grid_point + c.offset);
+    if (c.boundary_axis >= 0) {
+      EXPECT_EQ(p[c.boundary_axis], 0.0);
+    }
+    if (c.boundary_axis == -2) {  // the corner: along one of its two sides
+      EXPECT_TRUE(p.x() == 0.0 || p.y() == 0.0) << p.transpose();
     }
   }
 }
 
-TEST(Semiregular, UnfoldNeverMovesBaseVertices) {
-  // Base vertex 0 (grid point (0, 0) of face 0), thrown into the square: it
-  // folds its corner triangles, and stays where it was thrown.
-  const SpikedSquare square(0, 0, 0, Vec3(0.4, 0.2, 0));
-  ASSERT_EQ(square.spiked, 0);
-  const auto point = [&](int f, const Eigen::Vector3d& b) { return square.point(f, b); };
+TEST(Semiregular, UnfoldLeavesFoldsWiderThanItsMoves) {
+  // A disc of two grid steps' radius thrown sideways as a whole: the
+  // triangles across its rim fold, and no sample moved by less than a grid
+  // step leaves the disc, so they stay folded.
+  const SpikedSquare square(false, 0, 0, 0, Vec3::Zero());
+  const auto point = [&](int f, const Eigen::Vector3d& b) {
+    const Vec3 p = flat_point(square.base, f, b);
+    return (p - Vec3(0.5, 0.3, 0)).norm() < 0.25 ? Vec3(p + Vec3(0.35, 0, 0)) : p;
+  };
   TriangleMesh mesh = semiregular_mesh(square.base, square.levels, point);
   const std::size_t folds = flipped_faces(mesh);
   ASSERT_GT(folds, 0u);
   const UnfoldReport r = unfold_semiregular(square.base, square.levels, point, mesh);
   EXPECT_EQ(r.folds_before, folds);
-  EXPECT_EQ(mesh.positions[0], Vec3(0.4, 0.2, 0));
   EXPECT_EQ(r.folds_after, flipped_faces(mesh));
   EXPECT_GT(r.folds_after, 0u);
+  EXPECT_LE(r.folds_after, folds);
 
   TriangleMesh other = semiregular_mesh(square.base, 2, point);
   EXPECT_THROW(unfold_semiregular(square.base, 3, point, other), std::invalid_argument);
