@@ -1,5 +1,6 @@
 // Flipped faces of a remesh: the fold test of Praun & Hoppe's geometry
-// images, usable on any triangle mesh.
+// images, usable on any triangle mesh, whole (flipped_faces) or face by face
+// on moving positions (FoldTest).
 #include "metrics/metrics.hpp"
 
 #include <tbb/blocked_range.h>
@@ -10,38 +11,63 @@
 
 namespace ism {
 
-std::size_t flipped_faces(const TriangleMesh& mesh) {
-  const std::size_t nf = mesh.n_faces(), nv = mesh.n_vertices();
-  std::vector<Vec3> normal(nf);
-  for (std::size_t f = 0; f < nf; ++f) normal[f] = face_normal_scaled(mesh, f);
-
-  // Faces around each vertex (compressed rows).
-  std::vector<std::size_t> start(nv + 1, 0);
+FoldTest::FoldTest(const TriangleMesh& mesh) : mesh_(mesh) {
+  const std::size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
+  start_.assign(nv + 1, 0);
   for (const Triangle& t : mesh.triangles)
-    for (int v : t) ++start[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<std::size_t> faces(start[nv]);
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
-      for (int v : mesh.triangles[f]) faces[fill[v]++] = f;
-  }
+    for (int v : t) ++start_[std::size_t(v) + 1];
+  for (std::size_t v = 0; v < nv; ++v) start_[v + 1] += start_[v];
+  faces_.resize(start_[nv]);
+  std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+  for (std::size_t f = 0; f < nf; ++f)
+    for (int v : mesh.triangles[f]) faces_[fill[std::size_t(v)]++] = f;
+  normal_.resize(nf);
+  for (std::size_t f = 0; f < nf; ++f) normal_[f] = face_normal_scaled(mesh, f);
+}
 
-  std::vector<char> flipped(nf, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nf), [&](const auto& range) {
-    std::vector<std::size_t> ring;
-    for (std::size_t f = range.begin(); f != range.end(); ++f) {
-      // Union of the faces around the three corners: a neighbour sharing an
-      // edge must count once, not twice.
-      ring.clear();
-      for (int v : mesh.triangles[f])
-        ring.insert(ring.end(), faces.begin() + start[v], faces.begin() + start[v + 1]);
-      std::sort(ring.begin(), ring.end());
-      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-      Vec3 sum = Vec3::Zero();
-      for (std::size_t g : ring) sum += normal[g];
-      flipped[f] = normal[f].dot(sum) < 0.0;
-    }
+std::span<const std::size_t> FoldTest::faces_of(int v) const {
+  return {faces_.data() + start_[std::size_t(v)], faces_.data() + start_[std::size_t(v) + 1]};
+}
+
+void FoldTest::ring(std::size_t f, std::vector<std::size_t>& out) const {
+  // A neighbour sharing an edge must count once, not twice.
+  out.clear();
+  for (int v : mesh_.triangles[f]) {
+    const auto around = faces_of(v);
+    out.insert(out.end(), around.begin(), around.end());
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+bool FoldTest::folded(std::size_t f, std::vector<std::size_t>& scratch) const {
+  ring(f, scratch);
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t g : scratch) sum += normal_[g];
+  return normal_[f].dot(sum) < 0.0;
+}
+
+void FoldTest::influenced(int v, std::vector<std::size_t>& out) const {
+  out.clear();
+  std::vector<std::size_t> r;
+  for (std::size_t f : faces_of(v)) {
+    ring(f, r);
+    out.insert(out.end(), r.begin(), r.end());
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void FoldTest::update_around(int v) {
+  for (std::size_t f : faces_of(v)) normal_[f] = face_normal_scaled(mesh_, f);
+}
+
+std::size_t flipped_faces(const TriangleMesh& mesh) {
+  const FoldTest test(mesh);
+  std::vector<char> flipped(mesh.n_faces(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.n_faces()), [&](const auto& range) {
+    std::vector<std::size_t> scratch;
+    for (std::size_t f = range.begin(); f != range.end(); ++f) flipped[f] = test.folded(f, scratch);
   });
   return static_cast<std::size_t>(std::count(flipped.begin(), flipped.end(), 1));
 }

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace ism {
 
@@ -126,6 +127,32 @@ double symmetric_piece_energy(const StretchPiece& piece, double area_domain_tota
 /// included): faces folded over their neighbours. Zero-area faces are never
 /// flipped. The count Praun & Hoppe report for geometry images.
 std::size_t flipped_faces(const TriangleMesh& mesh);
+
+/// The test of flipped_faces(), face by face, on a mesh whose positions may
+/// change: after moving vertex v, update_around(v). Keeps a reference to
+/// `mesh` (which must outlive it, its connectivity unchanged) and the face
+/// normals; const members may run concurrently, each with its own scratch.
+class FoldTest {
+ public:
+  explicit FoldTest(const TriangleMesh& mesh);
+
+  /// Whether face f is folded over the faces sharing a vertex with it.
+  bool folded(std::size_t f, std::vector<std::size_t>& scratch) const;
+  /// The faces around vertex v.
+  std::span<const std::size_t> faces_of(int v) const;
+  /// The faces sharing a vertex with f (f included), sorted.
+  void ring(std::size_t f, std::vector<std::size_t>& out) const;
+  /// The faces whose test depends on where v is (those sharing a vertex
+  /// with a face around v), sorted.
+  void influenced(int v, std::vector<std::size_t>& out) const;
+  /// Recomputes the normals of the faces around v.
+  void update_around(int v);
+
+ private:
+  const TriangleMesh& mesh_;
+  std::vector<std::size_t> start_, faces_;  // faces around each vertex (rows)
+  std::vector<Vec3> normal_;                // area-scaled
+};
 
 // ---------------------------------------------------------------------------
 // Surface distance (Hoppe's MeshDistance definition of PSNR).

@@ -6,78 +6,10 @@
 #include <algorithm>
 #include <exception>
 #include <map>
-#include <span>
 #include <stdexcept>
 #include <utility>
 
 namespace ism {
-
-namespace {
-
-// Faces around each vertex (compressed rows) and the fold test of
-// flipped_faces() on the current positions, evaluated face by face.
-class FoldTest {
- public:
-  explicit FoldTest(const TriangleMesh& mesh) : mesh_(mesh) {
-    const std::size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
-    start_.assign(nv + 1, 0);
-    for (const Triangle& t : mesh.triangles)
-      for (int v : t) ++start_[std::size_t(v) + 1];
-    for (std::size_t v = 0; v < nv; ++v) start_[v + 1] += start_[v];
-    faces_.resize(start_[nv]);
-    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
-      for (int v : mesh.triangles[f]) faces_[fill[std::size_t(v)]++] = f;
-    normal_.resize(nf);
-    for (std::size_t f = 0; f < nf; ++f) normal_[f] = face_normal_scaled(mesh, f);
-  }
-
-  std::span<const std::size_t> faces_of(int v) const {
-    return {faces_.data() + start_[std::size_t(v)], faces_.data() + start_[std::size_t(v) + 1]};
-  }
-
-  // Faces sharing a vertex with f (f included), sorted.
-  void ring(std::size_t f, std::vector<std::size_t>& out) const {
-    out.clear();
-    for (int v : mesh_.triangles[f]) {
-      const auto around = faces_of(v);
-      out.insert(out.end(), around.begin(), around.end());
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
-
-  bool folded(std::size_t f, std::vector<std::size_t>& scratch) const {
-    ring(f, scratch);
-    Vec3 sum = Vec3::Zero();
-    for (std::size_t g : scratch) sum += normal_[g];
-    return normal_[f].dot(sum) < 0.0;
-  }
-
-  // The faces whose fold test depends on where v is: those sharing a vertex
-  // with a face around v.
-  void influenced(int v, std::vector<std::size_t>& out) const {
-    out.clear();
-    std::vector<std::size_t> r;
-    for (std::size_t f : faces_of(v)) {
-      ring(f, r);
-      out.insert(out.end(), r.begin(), r.end());
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
-
-  void update_around(int v) {
-    for (std::size_t f : faces_of(v)) normal_[f] = face_normal_scaled(mesh_, f);
-  }
-
- private:
-  const TriangleMesh& mesh_;
-  std::vector<std::size_t> start_, faces_;
-  std::vector<Vec3> normal_;
-};
-
-}  // namespace
 
 UnfoldReport unfold_semiregular(
     const TriangleMesh& base, int levels,
