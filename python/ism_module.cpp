@@ -208,12 +208,16 @@ py::object to_python(const Json& j) {
 struct MapArguments {
   bool hold_features;
   int final_sweeps;
+  std::size_t contenders;  // 0: the tool's default
   std::optional<double> inverse_weight, curvature_weight, anisotropy_weight, anisotropy_threshold;
   py::object meta_mesh;
 
   void apply(tool::MapSettings& settings) const {
     settings.hold_features = hold_features;
     settings.final_sweeps = final_sweeps;
+    if (contenders > 12)
+      throw py::value_error("contenders must be in 0..12 (0: the tool's default)");
+    settings.contenders = contenders;
     if (inverse_weight) settings.set_inverse_weight(*inverse_weight);
     if (curvature_weight) settings.curvature_weight = *curvature_weight;
     if (anisotropy_weight) settings.set_anisotropy_weight(*anisotropy_weight);
@@ -405,7 +409,7 @@ PYBIND11_MODULE(ism, m) {
       "gim_remesh",
       [gim_result](const py::object& surface, const py::object& faces, int size,
                    const std::string& metric, const py::object& features, bool hold_features,
-                   int final_sweeps, std::optional<double> inverse_weight,
+                   int final_sweeps, std::size_t contenders, std::optional<double> inverse_weight,
                    std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
                    std::optional<double> anisotropy_threshold, const py::object& output,
                    const py::object& normals, const py::object& mesh, int draco_bits,
@@ -424,8 +428,8 @@ PYBIND11_MODULE(ism, m) {
         o.mask = optional_path(mask);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,     final_sweeps,         inverse_weight, curvature_weight,
-                     anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
+                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
@@ -437,12 +441,12 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
       "metric"_a = "right-isosceles", "features"_a = py::none(), "hold_features"_a = false,
-      "final_sweeps"_a = 8, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
-      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
-      "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
-      "glb_draco"_a = false, "preview"_a = py::none(), "mask"_a = py::none(),
-      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
-      "quiet"_a = false,
+      "final_sweeps"_a = 8, "contenders"_a = 0, "inverse_weight"_a = py::none(),
+      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
+      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "normals"_a = py::none(),
+      "mesh"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false, "preview"_a = py::none(),
+      "mask"_a = py::none(), "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
+      "report"_a = py::none(), "quiet"_a = false,
       "gim_remesh(path or V, F, *, size=257, ...) -> GimRemeshResult(image, normals, vertices, "
       "faces, report)\n\n"
       "Octahedral geometry image of a genus-0 surface (holes capped; the output .exr then has\n"
@@ -456,15 +460,15 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "semireg",
-      [semireg_result](const py::object& surface, const py::object& faces, const py::object& base,
-                       const py::object& base_vertices, std::size_t base_size, int levels,
-                       bool grid_points, bool hold_features, int final_sweeps,
-                       std::optional<double> inverse_weight, std::optional<double> curvature_weight,
-                       std::optional<double> anisotropy_weight,
-                       std::optional<double> anisotropy_threshold, const py::object& output,
-                       const py::object& write_base, int draco_bits, bool glb_draco,
-                       const py::object& dump_patches, const py::object& meta_mesh,
-                       const py::object& report, bool quiet) {
+      [semireg_result](
+          const py::object& surface, const py::object& faces, const py::object& base,
+          const py::object& base_vertices, std::size_t base_size, int levels, bool grid_points,
+          bool hold_features, int final_sweeps, std::size_t contenders,
+          std::optional<double> inverse_weight, std::optional<double> curvature_weight,
+          std::optional<double> anisotropy_weight, std::optional<double> anisotropy_threshold,
+          const py::object& output, const py::object& write_base, int draco_bits, bool glb_draco,
+          const py::object& dump_patches, const py::object& meta_mesh, const py::object& report,
+          bool quiet) {
         pipeline::SemiregOptions o;
         o.input = input_mesh(surface, faces, "semireg");
         if (!base.is_none()) {
@@ -485,8 +489,8 @@ PYBIND11_MODULE(ism, m) {
         o.write_base = optional_path(write_base);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,     final_sweeps,         inverse_weight, curvature_weight,
-                     anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
+                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         auto [r, rep] =
             run_pipeline("semireg", &pipeline::semireg, o, common_options(report, quiet));
@@ -498,11 +502,12 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "base"_a = py::none(),
       "base_vertices"_a = py::none(), "base_size"_a = 0, "levels"_a = 4, "grid_points"_a = false,
-      "hold_features"_a = false, "final_sweeps"_a = 8, "inverse_weight"_a = py::none(),
-      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
-      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "write_base"_a = py::none(),
-      "draco_bits"_a = 14, "glb_draco"_a = false, "dump_patches"_a = py::none(),
-      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
+      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
+      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
+      "output"_a = py::none(), "write_base"_a = py::none(), "draco_bits"_a = 14,
+      "glb_draco"_a = false, "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
+      "report"_a = py::none(), "quiet"_a = false,
       "semireg(path or V, F, *, base=... | base_vertices=... | base_size=N, levels=4, ...) -> "
       "SemiregResult(vertices, faces, base_vertices, base_faces, report)\n\n"
       "Semi-regular remesh of a surface of any genus, closed or open, as the semireg tool (same\n"
@@ -514,14 +519,15 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "torus_remesh",
-      [torus_result](
-          const py::object& surface, const py::object& faces, const py::object& size,
-          const py::object& features, bool triangulate, bool no_global_reembedding,
-          bool hold_features, int final_sweeps, std::optional<double> inverse_weight,
-          std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
-          std::optional<double> anisotropy_threshold, const py::object& output,
-          const py::object& image, int draco_bits, bool glb_draco, const py::object& dump_patches,
-          const py::object& meta_mesh, const py::object& report, bool quiet) {
+      [torus_result](const py::object& surface, const py::object& faces, const py::object& size,
+                     const py::object& features, bool triangulate, bool no_global_reembedding,
+                     bool hold_features, int final_sweeps, std::size_t contenders,
+                     std::optional<double> inverse_weight, std::optional<double> curvature_weight,
+                     std::optional<double> anisotropy_weight,
+                     std::optional<double> anisotropy_threshold, const py::object& output,
+                     const py::object& image, int draco_bits, bool glb_draco,
+                     const py::object& dump_patches, const py::object& meta_mesh,
+                     const py::object& report, bool quiet) {
         pipeline::TorusRemeshOptions o;
         o.input = input_mesh(surface, faces, "torus_remesh");
         o.features = feature_source(features, "features");
@@ -539,8 +545,8 @@ PYBIND11_MODULE(ism, m) {
         o.image = optional_path(image);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,     final_sweeps,         inverse_weight, curvature_weight,
-                     anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
+                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         auto [r, rep] =
             run_pipeline("torus-remesh", &pipeline::torus_remesh, o, common_options(report, quiet));
@@ -551,11 +557,11 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 128, "features"_a = py::none(),
       "triangulate"_a = false, "no_global_reembedding"_a = false, "hold_features"_a = false,
-      "final_sweeps"_a = 8, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
-      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
-      "output"_a = py::none(), "image"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false,
-      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
-      "quiet"_a = false,
+      "final_sweeps"_a = 8, "contenders"_a = 0, "inverse_weight"_a = py::none(),
+      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
+      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "image"_a = py::none(),
+      "draco_bits"_a = 14, "glb_draco"_a = false, "dump_patches"_a = py::none(),
+      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
       "torus_remesh(path or V, F, *, size=128, ...) -> TorusRemeshResult(grid, vertices, quads, "
       "triangles, report)\n\n"
       "Valence-4 grid remesh of a closed genus-1 surface, as the torus-remesh tool (same\n"

@@ -129,8 +129,8 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
        .dump_patches = o.dump_patches,
        .hint = "try --hold-features or other --features"},
       o.map,
-      [&](const MapOptions& options, std::size_t) {
-        return tool::only(choose_network(networks, domain, options));
+      [&](const MapOptions& options, std::size_t count) {
+        return rank_networks(networks, domain, options, 1000, {}, count);
       },
       // Judged on the input surface: what the caps take does not count.
       [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });

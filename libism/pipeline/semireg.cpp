@@ -347,7 +347,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   // two best are refined side by side, each on its own core, and the final
   // score keeps one.
   tool::MapSettings settings = o.map;
-  if (open) settings.contenders = 2;
+  if (open && settings.contenders == 0) settings.contenders = 2;
   // The remesh a map gives over base i (on an open surface: the base face's
   // pieces of its closed domain).
   auto sample_remesh = [&](const SurfaceMap& map, std::size_t i) {
@@ -403,7 +403,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
           return rank_domains(
               std::move(candidates), options, 5000,
               [](const SurfaceMap& m) { return m.measures().forward_efficiency; }, count);
-        return tool::only(choose_domain(std::move(candidates), options, 5000));
+        return rank_domains(std::move(candidates), options, 5000, {}, count);
       },
       // Judged on the input surface: what the caps take does not count. On
       // an open surface each folded remesh triangle costs a whole unit of

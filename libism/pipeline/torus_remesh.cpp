@@ -174,11 +174,11 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
        .hint = "try --hold-features or other --features",
        .retry_below = 0.0},
       o.map,
-      [&](const MapOptions& options, std::size_t) {
+      [&](const MapOptions& options, std::size_t count) {
         RefineOptions coarse;
         coarse.global_flat_reembedding = !o.no_global_reembedding;
         coarse.local_disc_every = kLocalDiscEvery;
-        return tool::only(choose_network(candidates.networks, domain, options, 1000, coarse));
+        return rank_networks(candidates.networks, domain, options, 1000, coarse, count);
       },
       [&](const SurfaceMap& map) {
         const TorusGrid grid = sample(map);

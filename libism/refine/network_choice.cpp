@@ -67,22 +67,29 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
 
 }  // namespace
 
+std::vector<std::unique_ptr<MapSetup>> rank_networks(
+    std::vector<PathNetwork> networks, const DomainGeometry& domain, const MapOptions& options,
+    std::size_t coarse_vertices, const RefineOptions& refine_options, std::size_t count) {
+  if (networks.empty()) throw std::invalid_argument("choose_network: no network");
+  return choose(
+      networks.size(),
+      [&](std::size_t i) {
+        auto setup = std::make_unique<MapSetup>();
+        setup->network = std::move(networks[i]);
+        setup->pm = simplify_constrained(setup->network, domain.mesh());
+        setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
+        return setup;
+      },
+      coarse_vertices, refine_options, {}, count);
+}
+
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const DomainGeometry& domain, const MapOptions& options,
                                          std::size_t coarse_vertices,
                                          const RefineOptions& refine_options) {
-  if (networks.empty()) throw std::invalid_argument("choose_network: no network");
-  return std::move(choose(
-                       networks.size(),
-                       [&](std::size_t i) {
-                         auto setup = std::make_unique<MapSetup>();
-                         setup->network = std::move(networks[i]);
-                         setup->pm = simplify_constrained(setup->network, domain.mesh());
-                         setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
-                         return setup;
-                       },
-                       coarse_vertices, refine_options)
-                       .front());
+  return std::move(
+      rank_networks(std::move(networks), domain, options, coarse_vertices, refine_options, 1)
+          .front());
 }
 
 std::vector<std::unique_ptr<MapSetup>> rank_domains(std::vector<DomainCandidate> candidates,

@@ -43,6 +43,15 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          std::size_t coarse_vertices = 1000,
                                          const RefineOptions& refine_options = {});
 
+/// choose_network() keeping the best `count` candidates (fewer when fewer
+/// map), best first, to be refined and compared at full resolution.
+std::vector<std::unique_ptr<MapSetup>> rank_networks(std::vector<PathNetwork> networks,
+                                                     const DomainGeometry& domain,
+                                                     const MapOptions& options,
+                                                     std::size_t coarse_vertices = 1000,
+                                                     const RefineOptions& refine_options = {},
+                                                     std::size_t count = 1);
+
 /// The same choice among candidates that differ in their domain as well;
 /// the result owns its domain.
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,

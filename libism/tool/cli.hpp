@@ -39,8 +39,8 @@ inline void add_mesh_file_options(CLI::App& app, io::MeshFileOptions& options) {
                "Draco-compress .glb meshes (KHR_draco_mesh_compression; default: plain glTF)");
 }
 
-/// --hold-features, --final-sweeps, --inverse-weight and --curvature-weight, the same in every
-/// front end (each sets its own default variants in `settings`).
+/// --hold-features, --final-sweeps, --inverse-weight, --contenders and --curvature-weight, the same
+/// in every front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
   app.add_option("--meta-mesh", settings.meta_mesh_path,
                  "The map as a meta-mesh: both meshes, each vertex located on the other, each "
@@ -56,6 +56,12 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
          "symmetric stretch, lower favours the one-way stretch domain -> surface (default: "
          "the tool's variants, each refined and the best kept)")
       ->check(CLI::Range(0.001, 1.0));
+  app.add_option("--contenders", settings.contenders,
+                 "How many of the best candidates at the coarse level (networks or bases) each "
+                 "variant refines whole, the best final map kept: more can find a better map "
+                 "where the coarse ranking misjudges, at that many times the map stage's work "
+                 "(default 1; semireg on an open surface 2)")
+      ->check(CLI::Range(1, 12));
   app.add_option("--curvature-weight", settings.curvature_weight,
                  "Weight the stretch by 1 + W * curvature / its RMS: more samples where the "
                  "surface bends, a closer remesh (PSNR) for a little stretch")

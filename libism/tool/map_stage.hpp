@@ -40,8 +40,8 @@ struct MapSettings {
   std::vector<MapVariant> variants{MapVariant{}};
   /// How many of each variant's best coarse candidates (networks or bases,
   /// ChooseMap's count) are refined whole and compete: 1 trusts the coarse
-  /// ranking.
-  std::size_t contenders = 1;
+  /// ranking; 0 is the front end's default (1; semireg on an open surface 2).
+  std::size_t contenders = 0;
   /// MapOptions::curvature_weight of every variant (--curvature-weight).
   double curvature_weight = 0.0;
   /// Refined side by side after `variants` when one of those scored below

@@ -57,6 +57,8 @@ def test_a_base_given_as_arrays(runs, meshes):
     assert again.report["base"]["largest_snap_distance_relative"] < 0.05
     with pytest.raises(TypeError, match=r"base must be a mesh file's path or a tuple \(V, F\)"):
         ism.semireg(meshes["blob"], base=(r.base_vertices,))
+    with pytest.raises(ValueError, match=r"contenders must be in 0\.\.12"):
+        ism.semireg(meshes["blob"], base_size=12, contenders=13)
 
 
 def test_every_glb_passes_the_khronos_validator(runs, validate_gltf):

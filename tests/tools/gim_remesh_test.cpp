@@ -78,6 +78,34 @@ TEST(GimRemesh, GeneratedBlobGivesAWatertightImageAndAReport) {
   EXPECT_GT(fs::file_size(drc), 100u);
 }
 
+// --contenders N: each variant's N best coarse networks refined whole, the
+// best final map kept (the report lists each with its score).
+TEST(GimRemesh, ContendersAreRefinedWholeAndTheBestIsKept) {
+  const fs::path dir = scratch_dir("gim_contenders");
+  const fs::path blob = dir / "blob.obj", exr = dir / "blob.exr", report = dir / "blob.json";
+  ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 1500 -o " + blob.string()).status, 0);
+  const auto r = run_tool("gim-remesh", blob.string() + " -o " + exr.string() +
+                                            " --size 33 --inverse-weight 0.5 --contenders 2 "
+                                            "--report " +
+                                            report.string() + " -q");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto json = nlohmann::json::parse(slurp(report));
+  const auto& variants = json["map_variants"];
+  ASSERT_EQ(variants.size(), 2u);
+  EXPECT_EQ(variants[0]["contender"], 0);
+  EXPECT_EQ(variants[1]["contender"], 1);
+  EXPECT_NE(variants[0]["candidate"], variants[1]["candidate"]);
+  const int kept = variants[0]["kept"].get<bool>() ? 0 : 1;
+  EXPECT_TRUE(variants[kept]["kept"].get<bool>());
+  EXPECT_FALSE(variants[1 - kept]["kept"].get<bool>());
+  EXPECT_GE(variants[kept]["score"].get<double>(), variants[1 - kept]["score"].get<double>());
+  EXPECT_DOUBLE_EQ(json["map"]["efficiency_domain_to_surface"].get<double>(),
+                   variants[kept]["efficiency_domain_to_surface"].get<double>());
+  EXPECT_NE(
+      run_tool("gim-remesh", blob.string() + " -o " + exr.string() + " --contenders 0 -q").status,
+      0);
+}
+
 // Every closed genus-0 shared model, one test each (they take 5-60 s).
 // Floors at 129² (measured at commit time, a little below): PSNR of the
 // remesh, square-domain efficiency of the image, most flipped triangles.
