@@ -1,11 +1,13 @@
 #pragma once
-// semireg's pipeline (paper §6.2): a semi-regular remesh of a closed surface of
-// any genus over a coarse base mesh. The base vertices are snapped to surface
-// vertices, a consistent path network with the base's connectivity partitions
-// the surface, the map from the base (faces equilateral) to the surface is
-// optimised, and every base face is sampled on the barycentric grid of
-// 2^levels subdivisions (DESIGN.md §5). The command-line tool and the Python
-// module both run it.
+// semireg's pipeline (paper §6.2): a semi-regular remesh of a surface of any
+// genus, closed or with boundary loops, over a coarse base mesh (with as many
+// loops). The base vertices are snapped to surface vertices, a consistent
+// path network with the base's connectivity partitions the surface (holes
+// capped, the boundary mapped onto the base's boundary edges), the map from
+// the base (faces equilateral) to the surface is optimised, every base face
+// is sampled on the barycentric grid of 2^levels subdivisions (DESIGN.md §5)
+// and the vertices of folded triangles re-sampled nearby. The command-line
+// tool and the Python module both run it.
 #include "io/draco_io.hpp"
 #include "io/features.hpp"
 #include "tool/map_stage.hpp"
@@ -18,7 +20,7 @@ namespace ism::pipeline {
 /// semireg's options, with its defaults. Exactly one of base, base_vertices
 /// and base_size gives the base.
 struct SemiregOptions {
-  tool::InputMesh input;            // the closed surface
+  tool::InputMesh input;            // the surface, closed or open
   tool::InputMesh base;             // a base mesh: vertices snapped, faces kept
   io::FeatureSource base_vertices;  // base vertices only, connected by their Voronoi regions
   std::size_t base_size = 0;        // decimate to a base of this many vertices (0: not)
