@@ -70,7 +70,7 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
 std::vector<std::unique_ptr<MapSetup>> rank_networks(
     std::vector<PathNetwork> networks, const DomainGeometry& domain, const MapOptions& options,
     std::size_t coarse_vertices, const RefineOptions& refine_options, std::size_t count) {
-  if (networks.empty()) throw std::invalid_argument("choose_network: no network");
+  if (networks.empty()) throw std::invalid_argument("rank_networks: no network");
   return choose(
       networks.size(),
       [&](std::size_t i) {

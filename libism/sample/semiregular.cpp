@@ -44,6 +44,12 @@ SemiregularLayout semiregular_layout(const TriangleMesh& base, int levels) {
   out.sites.assign(face_start + per_face * std::size_t(nf), SemiregularSite{});
   out.triangles.reserve(std::size_t(nf) * std::size_t(n) * std::size_t(n));
   out.second_sites.assign(out.sites.size(), SemiregularSite{});
+  std::vector<int> edge_faces(std::size_t(n_edges), 0);
+  for (int e : face_edge) ++edge_faces[std::size_t(e)];
+  out.boundary_edges.assign(std::size_t(nf), 0);
+  for (std::size_t f = 0; f < std::size_t(nf); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (edge_faces[std::size_t(face_edge[3 * f + k])] == 1) out.boundary_edges[f] |= 1 << k;
   auto place = [&](std::size_t v, int f, int i, int j) {
     if (out.sites[v].face < 0)
       out.sites[v] = {f, i, j};

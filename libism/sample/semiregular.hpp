@@ -30,6 +30,9 @@ struct SemiregularLayout {
   /// A vertex inside a base edge of two faces: its grid point on the second
   /// face; face -1 for any other vertex.
   std::vector<SemiregularSite> second_sites;
+  /// Per base face, whether its edge k (corner k to k + 1) is on the base's
+  /// boundary (held by that face alone): bit k.
+  std::vector<unsigned char> boundary_edges;
   std::vector<Triangle> triangles;
   /// Barycentric weights of grid point (i, j), fractional points included.
   Eigen::Vector3d weights(double i, double j) const;

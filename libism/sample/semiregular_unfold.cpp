@@ -5,9 +5,7 @@
 
 #include <algorithm>
 #include <exception>
-#include <map>
 #include <stdexcept>
-#include <utility>
 
 namespace ism {
 
@@ -41,12 +39,8 @@ UnfoldReport unfold_semiregular(
   // Which face edges are base boundary edges (edge k: corner k to k + 1),
   // and the faces at each base vertex.
   const std::size_t nb = base.n_vertices();
-  std::map<std::pair<int, int>, int> edge_faces;
-  for (const Triangle& t : base.triangles)
-    for (int k = 0; k < 3; ++k) ++edge_faces[std::minmax(t[k], t[(k + 1) % 3])];
   auto boundary_edge = [&](int f, int k) {
-    const Triangle& t = base.triangles[std::size_t(f)];
-    return edge_faces[std::minmax(t[k], t[(k + 1) % 3])] == 1;
+    return (layout.boundary_edges[std::size_t(f)] >> k & 1) != 0;
   };
   std::vector<char> on_boundary(mesh.n_vertices(), 0);
   std::vector<std::vector<SemiregularSite>> corner_sites(nb);
