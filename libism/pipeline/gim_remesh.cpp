@@ -123,6 +123,10 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   if (open)
     for (const PathNetwork& network : networks) input_faces.add(network, capped);
   tool::Progress& progress = run.stage("map");
+  // Judged on the input surface: what the caps take does not count.
+  const auto judge = [&](const SurfaceMap& m) {
+    return m.measures(input_faces.of(m)).forward_efficiency;
+  };
   const auto [chosen, stats] = tool::run_map_stage(
       run, progress,
       {.input = input,
@@ -130,10 +134,12 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
        .hint = "try --hold-features or other --features"},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
-        return rank_networks(networks, domain, options, 1000, {}, count);
+        // Ranked by the measure the final map is kept by (caps excluded).
+        return rank_networks(networks, domain, options, 1000, {}, count, [&](const SurfaceMap& m) {
+          return m.measures(input_faces.of_any_level(m)).forward_efficiency;
+        });
       },
-      // Judged on the input surface: what the caps take does not count.
-      [&](const SurfaceMap& m) { return m.measures(input_faces.of(m)).forward_efficiency; });
+      judge);
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
   const SurfaceMap& map = *chosen->map;

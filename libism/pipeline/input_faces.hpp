@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -27,6 +28,21 @@ class InputFaces {
     for (std::size_t f = 0; f < network.surface.n_faces(); ++f)
       on_input_[key(network.surface.positions, network.surface.triangles[f])] =
           !capped.is_cap_face(network.face_origin[f]);
+    for (std::size_t v = capped.input_vertices; v < capped.mesh.n_vertices(); ++v)
+      cap_points_.insert(point_key(capped.mesh.positions[v]));
+  }
+
+  /// Per face of a map at any resolution: 0 where a corner is a vertex the
+  /// caps added (a cap's centre or ring), else 1 (empty when there are no
+  /// caps). At full resolution a face on the input never has such a corner,
+  /// a cap face may (its corners all on the loop) : a coarse judge.
+  std::vector<char> of_any_level(const SurfaceMap& map) const {
+    if (on_input_.empty()) return {};
+    std::vector<char> out(map.n_faces(), 1);
+    for (std::size_t f = 0; f < map.n_faces(); ++f)
+      for (int v : map.faces()[f])
+        if (cap_points_.count(point_key(map.positions()[v]))) out[f] = 0;
+    return out;
   }
 
   /// Per face of the map: 1 on the input surface, 0 on a cap (empty when
@@ -54,7 +70,9 @@ class InputFaces {
       for (int i = 0; i < 3; ++i) k[3 * c + i] = p[c][i];
     return k;
   }
+  static std::array<double, 3> point_key(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
   std::map<Key, char> on_input_;
+  std::set<std::array<double, 3>> cap_points_;
 };
 
 }  // namespace ism::pipeline

@@ -67,9 +67,12 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
 
 }  // namespace
 
-std::vector<std::unique_ptr<MapSetup>> rank_networks(
-    std::vector<PathNetwork> networks, const DomainGeometry& domain, const MapOptions& options,
-    std::size_t coarse_vertices, const RefineOptions& refine_options, std::size_t count) {
+std::vector<std::unique_ptr<MapSetup>> rank_networks(std::vector<PathNetwork> networks,
+                                                     const DomainGeometry& domain,
+                                                     const MapOptions& options,
+                                                     std::size_t coarse_vertices,
+                                                     const RefineOptions& refine_options,
+                                                     std::size_t count, const CoarseScore& score) {
   if (networks.empty()) throw std::invalid_argument("rank_networks: no network");
   return choose(
       networks.size(),
@@ -80,7 +83,7 @@ std::vector<std::unique_ptr<MapSetup>> rank_networks(
         setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
         return setup;
       },
-      coarse_vertices, refine_options, {}, count);
+      coarse_vertices, refine_options, score, count);
 }
 
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,

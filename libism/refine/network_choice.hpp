@@ -14,6 +14,9 @@
 
 namespace ism {
 
+/// Scores a candidate's coarse map; the higher the better.
+using CoarseScore = std::function<double(const SurfaceMap&)>;
+
 /// A map together with what it refers to (SurfaceMap keeps references).
 struct MapSetup {
   std::unique_ptr<const DomainGeometry> owned_domain;  // null when the domain is shared
@@ -44,22 +47,19 @@ std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
                                          const RefineOptions& refine_options = {});
 
 /// choose_network() keeping the best `count` candidates (fewer when fewer
-/// map), best first, to be refined and compared at full resolution.
-std::vector<std::unique_ptr<MapSetup>> rank_networks(std::vector<PathNetwork> networks,
-                                                     const DomainGeometry& domain,
-                                                     const MapOptions& options,
-                                                     std::size_t coarse_vertices = 1000,
-                                                     const RefineOptions& refine_options = {},
-                                                     std::size_t count = 1);
+/// map), best first, to be refined and compared at full resolution; ranked
+/// by `score` (highest first) when given, else by the lowest symmetric
+/// energy.
+std::vector<std::unique_ptr<MapSetup>> rank_networks(
+    std::vector<PathNetwork> networks, const DomainGeometry& domain, const MapOptions& options,
+    std::size_t coarse_vertices = 1000, const RefineOptions& refine_options = {},
+    std::size_t count = 1, const CoarseScore& score = {});
 
 /// The same choice among candidates that differ in their domain as well;
 /// the result owns its domain.
 std::unique_ptr<MapSetup> choose_domain(std::vector<DomainCandidate> candidates,
                                         const MapOptions& options,
                                         std::size_t coarse_vertices = 1000);
-
-/// Scores a candidate's coarse map; the higher the better.
-using CoarseScore = std::function<double(const SurfaceMap&)>;
 
 /// choose_domain() keeping the best `count` candidates (fewer when fewer
 /// map), best first, to be refined and compared at full resolution; with
