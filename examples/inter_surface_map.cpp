@@ -5,12 +5,15 @@
 // stretch optimised on both; validation from both sides and the measures.
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
-//                     [--level-sweeps N] [--final-sweeps N]
+//                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
 // the paired vertices stay, and the simplification may stop above V). The
 // last lines say how the energy is spread over B's faces.
+// --block N refines one side N splits in a row (the paper's schedule);
+// --this-side-only optimises after a split only the split side's new ring,
+// not also the other side's vertices in it.
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -38,6 +41,8 @@ int main(int argc, char** argv) {
   std::size_t decimate = 0;
   bool each = false, trace = false;
   int level_sweeps = -1, final_sweeps = -1;
+  std::size_t block = 1;
+  bool other_side = true;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
       each = true;
@@ -47,6 +52,10 @@ int main(int argc, char** argv) {
       level_sweeps = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--final-sweeps") == 0 && i + 1 < argc)
       final_sweeps = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--block") == 0 && i + 1 < argc)
+      block = std::size_t(std::atol(argv[++i]));
+    else if (std::strcmp(argv[i], "--this-side-only") == 0)
+      other_side = false;
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
@@ -62,7 +71,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
-                 "[--final-sweeps N]\n");
+                 "[--final-sweeps N] [--block N] [--this-side-only]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -106,6 +115,8 @@ int main(int argc, char** argv) {
   ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
+  options.block = block;
+  options.optimise_other_side = other_side;
   if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;
   if (final_sweeps >= 0) options.max_final_sweeps = final_sweeps;
   int shown = -5;  // progress on stderr, every 5 % of the splits

@@ -126,6 +126,21 @@ std::vector<int> InterSurfaceMap::neighbours(int s, int v) const {
   return out;
 }
 
+std::vector<int> InterSurfaceMap::others_in_ring(int s, int v) const {
+  std::vector<int> ring = neighbours(s, v), out;
+  ring.push_back(v);
+  for (int f : index_[s].vertex_faces[v])
+    for (int x : index_[s].residents[f]) out.push_back(x);
+  const MetaSide& other = meta_.side[1 - s];
+  for (std::size_t x = 0; x < other.n_vertices(); ++x) {
+    const MetaLocation& loc = other.location[x];
+    if (loc.face < 0 && loc.vertex >= 0 &&
+        std::find(ring.begin(), ring.end(), loc.vertex) != ring.end())
+      out.push_back(int(x));
+  }
+  return out;
+}
+
 // ---------------------------------------------------------------- edits
 
 void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* edit) {

@@ -119,6 +119,9 @@ class InterSurfaceMap {
 
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
+  /// The other side's vertices located inside a face of v's one-ring or
+  /// on v or one of its neighbours. O(vertices of the other side).
+  std::vector<int> others_in_ring(int side, int v) const;
 
   /// The energy over every piece (symmetric stretch, paper §5.2, with the
   /// inverse term weighted by options().inverse_weight); efficiency 2 /

@@ -1437,17 +1437,9 @@ int InterSurfaceMap::split_next(int s) {
     // its neighbours (each move kept only if valid and lower in energy),
     // and try again.
     ++stats_.split_retries;
-    std::vector<int> mine = neighbours(s, sp.vt), theirs;
+    std::vector<int> mine = neighbours(s, sp.vt);
     mine.push_back(sp.vt);
-    for (int f : index_[s].vertex_faces[sp.vt])
-      for (int x : index_[s].residents[f]) theirs.push_back(x);
-    for (std::size_t x = 0; x < meta_.side[1 - s].n_vertices(); ++x) {
-      const MetaLocation& loc = meta_.side[1 - s].location[x];
-      if (loc.face < 0 && loc.vertex >= 0 &&
-          std::find(mine.begin(), mine.end(), loc.vertex) != mine.end())
-        theirs.push_back(int(x));
-    }
-    for (int x : theirs)
+    for (int x : others_in_ring(s, sp.vt))
       if (is_active(1 - s, x)) optimize_vertex(1 - s, x);
     for (int v : mine)
       if (is_active(s, v)) optimize_vertex(s, v);

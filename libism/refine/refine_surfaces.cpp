@@ -59,6 +59,9 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     std::vector<int> todo = map.neighbours(side, vs);
     todo.push_back(vs);
     for (int v : todo) optimise(map, options, side, v);
+    if (options.optimise_other_side)
+      for (int x : map.others_in_ring(side, vs))
+        if (map.is_active(1 - side, x)) optimise(map, options, 1 - side, x);
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
       const double e = map.energy();

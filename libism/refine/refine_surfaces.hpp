@@ -29,6 +29,10 @@ struct SurfaceRefineOptions {
   /// Splits of one side in a row before the other side's turn (the paper
   /// refines one side for a number of steps, then swaps); 1 interleaves.
   std::size_t block = 1;
+  /// After a split and its ring's optimisation, optimise also the other
+  /// side's vertices inside or on the new ring, so the detail a split brings
+  /// is met from both sides (false: the split side only).
+  bool optimise_other_side = true;
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;

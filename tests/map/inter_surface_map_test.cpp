@@ -72,7 +72,8 @@ std::array<ProgressiveMesh, 2> common_base_pms(const TriangleMesh& a, const Tria
 }
 
 /// Refines both sides in turn (the side less refined first), optimising
-/// every new vertex and its neighbours; validates after every operation and
+/// every new vertex, its neighbours and the other side's vertices in its
+/// ring; validates after every operation and
 /// checks that each kept move lowers the energy by its reported gain.
 void refine_both_checked(InterSurfaceMap& map, std::size_t validate_every, std::uint64_t seed) {
   std::mt19937_64 random(seed);
@@ -91,16 +92,20 @@ void refine_both_checked(InterSurfaceMap& map, std::size_t validate_every, std::
     ASSERT_GE(vs, 0);
     check("split", side, vs);
     if (::testing::Test::HasFatalFailure()) return;
-    std::vector<int> todo = map.neighbours(side, vs);
-    todo.push_back(vs);
+    // The new ring on the split side, then the other side's vertices in it.
+    std::vector<std::pair<int, int>> todo;
+    for (int v : map.neighbours(side, vs)) todo.push_back({side, v});
+    todo.push_back({side, vs});
     std::shuffle(todo.begin(), todo.end(), random);
-    for (int v : todo) {
+    for (int x : map.others_in_ring(side, vs)) todo.push_back({1 - side, x});
+    for (const auto [s, v] : todo) {
+      if (!map.is_active(s, v)) continue;
       const double before = map.energy();
-      const double gain = map.optimize_vertex(side, v);
+      const double gain = map.optimize_vertex(s, v);
       const double after = map.energy();
       ASSERT_GE(gain, 0.0);
-      ASSERT_NEAR(before - after, gain, 1e-9 * before) << "side " << side << " vertex " << v;
-      if (gain > 0) check("optimising", side, v);
+      ASSERT_NEAR(before - after, gain, 1e-9 * before) << "side " << s << " vertex " << v;
+      if (gain > 0) check("optimising", s, v);
       if (::testing::Test::HasFatalFailure()) return;
     }
   }
