@@ -452,6 +452,7 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
   // Crossings of a diagonal of tp's triangle edge (a, b) with one of tq's
   // (c, d): strictly interleaved ends.
   std::map<std::array<int, 4>, int> crossing;
+  std::vector<Vec2> inC = C;  // positions on C of all points, for ordering cells
   auto between = [n](int x, int lo, int hi) {  // x strictly inside the arc lo -> hi
     const int dx = (x - lo + n) % n, dh = (hi - lo + n) % n;
     return dx > 0 && dx < dh;
@@ -469,10 +470,10 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
     const int id = int(out.points[0].size());
     out.points[0].push_back(P[ea] + lambda * (P[eb] - P[ea]));
     out.points[1].push_back(Q[ec] + mu * (Q[ed] - Q[ec]));
+    inC.push_back(C[ea] + lambda * u);
     crossing.emplace(key, id);
     return id;
   };
-  std::vector<Vec2> inC = C;  // positions on C of all points, for ordering cells
   for (const auto& a : *tp)
     for (const auto& b : *tq) {
       std::vector<int> cell;
@@ -485,11 +486,6 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
           if (std::find(cell.begin(), cell.end(), id) == cell.end()) cell.push_back(id);
         }
       if (cell.size() < 3) continue;
-      inC.resize(out.points[0].size());
-      for (const auto& [key, id] : crossing) {
-        const Vec2 u = C[key[1]] - C[key[0]], v = C[key[3]] - C[key[2]], w = C[key[2]] - C[key[0]];
-        inC[id] = C[key[0]] + (w.x() * v.y() - w.y() * v.x()) / (u.x() * v.y() - u.y() * v.x()) * u;
-      }
       Vec2 centre = Vec2::Zero();
       for (int i : cell) centre += inC[i];
       centre /= double(cell.size());
