@@ -452,7 +452,7 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
   // Crossings of a diagonal of tp's triangle edge (a, b) with one of tq's
   // (c, d): strictly interleaved ends.
   std::map<std::array<int, 4>, int> crossing;
-  std::vector<Vec2> inC = C;  // positions on C of all points, for ordering cells
+  std::vector<Vec2> inC = C;                   // positions on C of all points, for ordering cells
   auto between = [n](int x, int lo, int hi) {  // x strictly inside the arc lo -> hi
     const int dx = (x - lo + n) % n, dh = (hi - lo + n) % n;
     return dx > 0 && dx < dh;
