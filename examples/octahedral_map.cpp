@@ -1,7 +1,13 @@
 // The whole map pipeline on one surface with the octahedron as M¹:
 // partition, constrained progressive mesh, coarse-to-fine refinement,
 // validation and measures, with the time of each stage.
-//   octahedral_map MESH [--equilateral] [--validate-each-step]
+// With --symmetric the map is built on the symmetric core (InterSurfaceMap:
+// the octahedron as side 0, never refining, its vertices released
+// continuously; the surface as side 1, refined by refine_surfaces) instead
+// of SurfaceMap, for comparison. Environment: ISM_HOLD holds the features
+// (both cores); ISM_LEVEL_SWEEPS and ISM_FINAL_SWEEPS set the symmetric
+// core's sweep counts.
+//   octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
@@ -9,6 +15,7 @@
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
+#include "refine/refine_surfaces.hpp"
 #include "tool/tool.hpp"
 
 #include <chrono>
@@ -16,15 +23,59 @@
 #include <cstdlib>
 #include <cstring>
 
+namespace {
+
+template <class Lap>
+int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh& pm, bool each,
+                  Lap& lap) {
+  ism::InterSurfaceOptions map_options;
+  map_options.hold_features = std::getenv("ISM_HOLD") != nullptr;
+  ism::InterSurfaceMap map(ism::side_from_domain(domain, pm), ism::side_from_pm(pm), map_options);
+  ism::SurfaceRefineOptions options;
+  options.validate_each_step = each;
+  if (const char* n = std::getenv("ISM_LEVEL_SWEEPS")) options.max_level_sweeps = std::atoi(n);
+  if (const char* n = std::getenv("ISM_FINAL_SWEEPS")) options.max_final_sweeps = std::atoi(n);
+  int shown = -1;
+  options.progress = [&](double f) {
+    if (int(f * 10) > shown) std::fprintf(stderr, "refine %3d %%\n", (shown = int(f * 10)) * 10);
+  };
+  const ism::SurfaceRefineStats stats = ism::refine_surfaces(map, options);
+  lap("refine");
+  const auto problem = map.validate();
+  lap("validate");
+  const ism::MapMeasures m = map.measures();
+  const ism::MapOperationStats& o = map.stats();
+  std::printf("faces %zu, valid %s\n", map.n_faces(1), problem ? problem->c_str() : "yes");
+  std::printf("efficiency: symmetric %.4f, domain->surface %.4f, surface->domain %.4f\n",
+              m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency);
+  std::printf(
+      "optimisations %zu (moves %zu): one-ring in one face %.1f%%, developed %.1f%%, "
+      "general %.1f%%; sweeps %zu + %zu final\n",
+      o.optimizations, o.moves, 100.0 * o.fast_path / std::max<std::size_t>(1, o.optimizations),
+      100.0 * o.developed / std::max<std::size_t>(1, o.optimizations),
+      100.0 * o.general / std::max<std::size_t>(1, o.optimizations), stats.sweeps,
+      stats.final_sweeps);
+  const ism::MetaMeshSize size = ism::meta_mesh_size(map.meta());
+  std::printf("overlay: %zu pieces, %zu crossings, %zu kinks, %zu pieces triangulated\n",
+              size.pieces, size.crossings, size.kinks, size.triangulated_pieces);
+  std::printf("peak memory %.0f MB\n", ism::tool::peak_memory_bytes() / 1048576.0);
+  return problem ? 1 : 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: octahedral_map MESH [--equilateral] [--validate-each-step]\n");
+    std::fprintf(
+        stderr,
+        "usage: octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]\n");
     return 2;
   }
-  bool equilateral = false, each = false;
+  bool equilateral = false, each = false, symmetric = false;
   for (int i = 2; i < argc; ++i) {
     equilateral |= std::strcmp(argv[i], "--equilateral") == 0;
     each |= std::strcmp(argv[i], "--validate-each-step") == 0;
+    symmetric |= std::strcmp(argv[i], "--symmetric") == 0;
   }
   using Clock = std::chrono::steady_clock;
   auto t0 = Clock::now();
@@ -44,6 +95,7 @@ int main(int argc, char** argv) {
       octahedron,
       ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
                                                       : ism::DomainMetric::right_isosceles));
+  if (symmetric) return run_symmetric(domain, pm, each, lap);
   ism::MapOptions map_options;
   map_options.release_features = std::getenv("ISM_HOLD") == nullptr;
   ism::SurfaceMap map(domain, pm, map_options);

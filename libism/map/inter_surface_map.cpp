@@ -31,6 +31,33 @@ MapSideInput side_from_domain(const TriangleMesh& domain, std::vector<FaceLength
   return in;
 }
 
+MapSideInput side_from_domain(const DomainGeometry& domain, const ProgressiveMesh& pm) {
+  if (pm.base_vertices.size() != domain.n_vertices())
+    throw std::invalid_argument("the base mesh and the domain have different vertex counts");
+  std::vector<int> domain_vertex(pm.base.n_vertices(), -1);
+  for (std::size_t i = 0; i < pm.base_vertices.size(); ++i)
+    domain_vertex[pm.base_vertices[i]] = int(i);
+  // Each domain face under its three rotations -> (face, rotation).
+  std::map<Triangle, std::pair<int, int>> domain_face;
+  for (std::size_t f = 0; f < domain.n_faces(); ++f) {
+    const Triangle& t = domain.mesh().triangles[f];
+    for (int r = 0; r < 3; ++r) domain_face[{t[r], t[(r + 1) % 3], t[(r + 2) % 3]}] = {int(f), r};
+  }
+  MapSideInput in;
+  in.n_vertices = domain.n_vertices();
+  for (std::size_t v = 0; v < in.n_vertices; ++v) in.base_vertices.push_back(int(v));
+  for (const Triangle& t : pm.base.triangles) {
+    const Triangle d{domain_vertex[t[0]], domain_vertex[t[1]], domain_vertex[t[2]]};
+    const auto it = domain_face.find(d);
+    if (it == domain_face.end()) throw std::invalid_argument("a base face is not a domain face");
+    const auto [f, r] = it->second;
+    const FaceLengths& l = domain.lengths(f);
+    in.base_faces.push_back(d);
+    in.base_lengths.push_back({l[r], l[(r + 1) % 3], l[(r + 2) % 3]});
+  }
+  return in;
+}
+
 InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
                                  InterSurfaceOptions options)
     : input_{std::move(side0), std::move(side1)}, options_(options) {
@@ -242,7 +269,11 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   for (const auto& [e, list] : proposal.lists) set_breaks(s, e, list, &edit);
   for (const auto& [g, list] : proposal.other_lists) set_breaks(1 - s, g, list, &edit);
   double after = 0;
-  const auto problem = check_faces(s, faces, &after);
+  std::optional<std::string> problem;
+  if (proposal.inside_one_face && proposal.locations[1].empty() && proposal.other_lists.empty())
+    after = faces_energy(s, faces);  // HUGE_VAL if a face does not cut
+  else
+    problem = check_faces(s, faces, &after);
   if (problem || !(after < HUGE_VAL) || (need_gain && !(after < energy_before * (1 - 1e-12)))) {
     rollback(edit);
     return std::nullopt;

@@ -53,6 +53,12 @@ struct MapSideInput {
 MapSideInput side_from_pm(const ProgressiveMesh& pm);
 /// A side from an abstract domain that never refines (vertices 0..n-1).
 MapSideInput side_from_domain(const TriangleMesh& domain, std::vector<FaceLengths> lengths);
+/// The abstract domain of a remesher (never refines) facing the surface side
+/// side_from_pm(pm): domain vertex i is the PM's base vertex i, and the faces
+/// are the PM's base faces in their order and rotation, each with its domain
+/// face's lengths. Throws std::invalid_argument if the vertex counts differ
+/// or a base face is not a face of the domain (same orientation).
+MapSideInput side_from_domain(const DomainGeometry& domain, const ProgressiveMesh& pm);
 
 struct InterSurfaceOptions {
   /// Base vertices (the features) stay on each other; otherwise they are
@@ -186,7 +192,8 @@ class InterSurfaceMap {
   /// lie in) after an edit; their energy when asked.
   std::optional<std::string> check_faces(int s, const std::vector<int>& faces,
                                          double* energy) const;
-  /// Stages a proposal on faces of side s, checks them and keeps it if
+  /// Stages a proposal on faces of side s, checks them (check_faces; only
+  /// the faces of s for a proposal inside one face of t) and keeps it if
   /// valid and, when `need_gain`, lower than `energy_before`; the gain, or
   /// nothing (and the map unchanged).
   std::optional<double> apply(int s, const std::vector<int>& faces, const Proposal& proposal,

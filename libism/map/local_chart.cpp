@@ -30,6 +30,27 @@ bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
   return in;
 }
 
+/// Whether the straight segment ab (ends on or inside the simple polygon)
+/// stays inside it: it crosses no side, passes through no corner between
+/// its ends, and its midpoint is inside. Near-touches count as leaving.
+bool segment_inside_polygon(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b) {
+  const double scale = (b - a).squaredNorm();
+  if (!(scale > 0)) return false;
+  const double tol = 1e-9 * scale;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2 &c = poly[j], &d = poly[i];
+    const double o1 = orient(a, b, c), o2 = orient(a, b, d);
+    const double o3 = orient(c, d, a), o4 = orient(c, d, b);
+    if (((o1 > tol && o2 < -tol) || (o1 < -tol && o2 > tol)) &&
+        ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
+      return false;  // crosses side cd
+    // Corner d on the open segment (not at an end).
+    const double u = (d - a).dot(b - a) / scale;
+    if (std::abs(o2) <= tol && u > 1e-9 && u < 1 - 1e-9) return false;
+  }
+  return inside_polygon(poly, 0.5 * (a + b));
+}
+
 /// Mean-value interpolation (Floater 2003) at p of values given at the
 /// corners of a polygon around it.
 Vec2 mean_value(const std::vector<Vec2>& poly, const std::vector<Vec2>& value, const Vec2& p) {
@@ -759,6 +780,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
         for (const auto& fragment : chart.fragments) {
           if (fragment.convex || !inside_polygon(fragment.chart, mid)) continue;
+          // Paper §5.1: the segment's ends are mapped to t; only where the
+          // straight segment between them on t would leave the cell does
+          // the edge bend (at the cell's diagonals).
+          const auto a = place_in_face(meta_, t, fragment.face, place[chain[j].second]);
+          const auto b = place_in_face(meta_, t, fragment.face, place[chain[j + 1].second]);
+          if (a && b && segment_inside_polygon(fragment.other, *a, *b)) break;
           const int n = int(fragment.chart.size());
           const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
           for (const auto& tri : fragment.triangles)
@@ -996,6 +1023,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
               [](const auto& a, const auto& b) { return a.here < b.here; });
     out->other_lists.push_back({g, std::move(list)});
   }
+  out->inside_one_face = chart.kind == Chart::fast;
   return sum;
 }
 
