@@ -6,6 +6,7 @@
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
+//                     [--local-budget B]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -14,6 +15,8 @@
 // --block N refines one side N splits in a row (the paper's schedule);
 // --this-side-only optimises after a split only the split side's new ring,
 // not also the other side's vertices in it.
+// --local-budget B runs the local relaxation queue after each level's sweeps
+// (SurfaceRefineOptions::local_relaxation_budget; 0: never).
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -42,6 +45,7 @@ int main(int argc, char** argv) {
   bool each = false, trace = false;
   int level_sweeps = -1, final_sweeps = -1;
   std::size_t block = 1;
+  double local_budget = -1;
   bool other_side = true;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
@@ -52,6 +56,8 @@ int main(int argc, char** argv) {
       level_sweeps = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--final-sweeps") == 0 && i + 1 < argc)
       final_sweeps = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--local-budget") == 0 && i + 1 < argc)
+      local_budget = std::atof(argv[++i]);
     else if (std::strcmp(argv[i], "--block") == 0 && i + 1 < argc)
       block = std::size_t(std::atol(argv[++i]));
     else if (std::strcmp(argv[i], "--this-side-only") == 0)
@@ -71,7 +77,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
-                 "[--final-sweeps N] [--block N] [--this-side-only]\n");
+                 "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -116,6 +122,7 @@ int main(int argc, char** argv) {
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
   options.block = block;
+  if (local_budget >= 0) options.local_relaxation_budget = local_budget;
   options.optimise_other_side = other_side;
   if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;
   if (final_sweeps >= 0) options.max_final_sweeps = final_sweeps;

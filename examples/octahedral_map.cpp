@@ -35,6 +35,8 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
   options.validate_each_step = each;
   if (const char* n = std::getenv("ISM_LEVEL_SWEEPS")) options.max_level_sweeps = std::atoi(n);
   if (const char* n = std::getenv("ISM_FINAL_SWEEPS")) options.max_final_sweeps = std::atoi(n);
+  if (const char* n = std::getenv("ISM_LOCAL_BUDGET"))
+    options.local_relaxation_budget = std::atof(n);
   int shown = -1;
   options.progress = [&](double f) {
     if (int(f * 10) > shown) std::fprintf(stderr, "refine %3d %%\n", (shown = int(f * 10)) * 10);
@@ -101,6 +103,18 @@ int main(int argc, char** argv) {
   ism::SurfaceMap map(domain, pm, map_options);
   ism::RefineOptions options;
   options.validate_each_step = each;
+  if (std::getenv("ISM_NO_LOCAL")) options.local_relaxation_budget = 0;
+  if (std::getenv("ISM_NO_DISC")) options.max_discs = 0, options.local_disc_every = 0;
+  if (std::getenv("ISM_FEW_SWEEPS"))
+    options.coarse_vertices = 0, options.max_level_sweeps = 2, options.max_final_sweeps = 4;
+  if (std::getenv("ISM_PLAIN")) {
+    options.local_relaxation_budget = 0;
+    options.max_discs = 0;
+    options.local_disc_every = 0;
+    options.coarse_vertices = 0;
+    options.max_level_sweeps = 2;
+    options.max_final_sweeps = 4;
+  }
   const ism::RefineStats stats = ism::refine(map, options);
   lap("refine");
   const auto problem = map.validate();

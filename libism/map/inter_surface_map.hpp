@@ -5,10 +5,12 @@
 // (metric given per face), refined by the vertex splits of its progressive
 // mesh or never. Every operation edits the meta-mesh through one
 // transaction: stage the changed locations and edge records, check the
-// affected faces of both sides (cut_face: pieces positive on both sides,
-// tiling their faces, the same pieces from both sides), then commit or roll
-// back; the energy of the affected pieces before and after gives the exact
-// gain.
+// changed faces (cut_face: every record they use kept by both edges, pieces
+// tiling the faces, each positive on both sides; with the region's boundary
+// unchanged that makes the edit a bijection onto the same region of the
+// other side), then commit or roll back; the energy of the changed pieces
+// before and after gives the exact gain. validate() checks the whole map
+// from both sides independently.
 //
 // Local operations (paper §5.1) work in a chart of a one-ring of one side:
 // each edge from the centre is developed over the other side's faces
@@ -188,12 +190,11 @@ class InterSurfaceMap {
   /// The energy of the ring's faces with the inner vertices placed as in
   /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
-  /// Checks faces of side s (and the faces of the other side their pieces
-  /// lie in) after an edit; their energy when asked.
+  /// Checks the changed faces of side s after an edit (see the file
+  /// comment); their energy when asked.
   std::optional<std::string> check_faces(int s, const std::vector<int>& faces,
                                          double* energy) const;
-  /// Stages a proposal on faces of side s, checks them (check_faces; only
-  /// the faces of s for a proposal inside one face of t) and keeps it if
+  /// Stages a proposal on faces of side s, checks them (check_faces) and keeps it if
   /// valid and, when `need_gain`, lower than `energy_before`; the gain, or
   /// nothing (and the map unchanged).
   std::optional<double> apply(int s, const std::vector<int>& faces, const Proposal& proposal,

@@ -27,9 +27,6 @@ struct InterSurfaceMap::Edit {
 struct InterSurfaceMap::Proposal {
   std::array<std::vector<std::pair<int, MetaLocation>>, 2> locations;
   std::vector<std::pair<int, std::vector<MetaCrossing>>> lists, other_lists;
-  /// The changed faces of s stay inside one face of t and nothing of t
-  /// changes (a fast-path move): cutting the faces of s checks it fully.
-  bool inside_one_face = false;
 };
 
 /// A one-ring of side s around v laid out in a chart of the other side t.

@@ -1023,7 +1023,6 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
               [](const auto& a, const auto& b) { return a.here < b.here; });
     out->other_lists.push_back({g, std::move(list)});
   }
-  out->inside_one_face = chart.kind == Chart::fast;
   return sum;
 }
 

@@ -1,7 +1,10 @@
 #include "refine/refine_surfaces.hpp"
 
+#include <array>
+#include <deque>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ism {
 
@@ -32,6 +35,34 @@ double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options)
   for (int side = 0; side < 2; ++side)
     for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
       if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v));
+  return gain;
+}
+
+double surfaces_local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
+  if (!(options.local_relaxation_budget > 0)) return 0;
+  std::deque<std::pair<int, int>> queue;
+  std::array<std::vector<char>, 2> queued;
+  for (int side = 0; side < 2; ++side) queued[side].assign(map.meta().side[side].n_vertices(), 0);
+  auto enqueue = [&](int side, int v) {
+    if (queued[side][v] || !map.is_active(side, v) || map.is_pinned(side, v)) return;
+    queue.push_back({side, v});
+    queued[side][v] = 1;
+  };
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t v = 0; v < queued[side].size(); ++v) enqueue(side, int(v));
+  const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
+  const double threshold = options.local_relaxation_gain * map.energy() / vertices;
+  const auto max_moves = std::size_t(options.local_relaxation_budget * vertices);
+  double gain = 0;
+  for (std::size_t moves = 0; !queue.empty() && moves < max_moves; ++moves) {
+    const auto [side, v] = queue.front();
+    queue.pop_front();
+    queued[side][v] = 0;
+    const double g = optimise(map, options, side, v);
+    gain += g;
+    if (g > threshold)
+      for (int w : map.neighbours(side, v)) enqueue(side, w);
+  }
   return gain;
 }
 
@@ -69,6 +100,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         ++stats.sweeps;
         if (surfaces_sweep(map, options) < 1e-3 * e) break;
       }
+      surfaces_local_relaxation(map, options);
       last_sweep = total;
     }
     if (options.progress && total_splits)
@@ -79,6 +111,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     ++stats.final_sweeps;
     if (surfaces_sweep(map, options) < options.final_relative_gain * e) break;
   }
+  surfaces_local_relaxation(map, options);
   stats.energy = map.energy();
   return stats;
 }

@@ -33,6 +33,15 @@ struct SurfaceRefineOptions {
   /// side's vertices inside or on the new ring, so the detail a split brings
   /// is met from both sides (false: the split side only).
   bool optimise_other_side = true;
+  /// After each level's sweeps and after the final ones, vertices keep being
+  /// re-optimised where the map still moves: a vertex whose move gained
+  /// more than `local_relaxation_gain` × the mean energy per vertex queues
+  /// its neighbours, at most `local_relaxation_budget` × the vertices of
+  /// both sides moves each time (0: never). As in refine(): a region
+  /// squeezed at a coarse level unfolds a little per sweep, each vertex
+  /// confined by its squeezed neighbours.
+  double local_relaxation_gain = 1e-4;
+  double local_relaxation_budget = 100;
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
@@ -43,7 +52,7 @@ struct SurfaceRefineOptions {
 };
 
 struct SurfaceRefineStats {
-  std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
+  std::size_t splits = 0, sweeps = 0, final_sweeps = 0, local_moves = 0;
   double energy = 0;
 };
 
@@ -52,5 +61,9 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
 
 /// One optimisation of every active vertex of both sides; the energy gained.
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
+
+/// The local relaxation queue described at SurfaceRefineOptions (with its
+/// gain and budget); the energy gained.
+double surfaces_local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options);
 
 }  // namespace ism
