@@ -5,8 +5,11 @@
 // the octahedron as side 0, never refining, its vertices released
 // continuously; the surface as side 1, refined by refine_surfaces) instead
 // of SurfaceMap, for comparison. Environment: ISM_HOLD holds the features
-// (both cores); ISM_LEVEL_SWEEPS and ISM_FINAL_SWEEPS set the symmetric
-// core's sweep counts.
+// (both cores); ISM_LEVEL_SWEEPS, ISM_FINAL_SWEEPS and ISM_LOCAL_BUDGET set
+// the symmetric core's sweep counts and local relaxation budget;
+// ISM_NO_LOCAL, ISM_NO_DISC, ISM_FEW_SWEEPS (2 per level, 4 final, no
+// coarse-level extra) and ISM_PLAIN (all three) strip SurfaceMap's
+// refinement schedule.
 //   octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]
 #include "domain/domain.hpp"
 #include "io/io.hpp"

@@ -568,10 +568,20 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     }
   };
   for (int round = 0; round < 2; ++round) {
-    // Central-difference gradient, then the perpendicular direction.
-    const double h = 1e-5 * scale;
-    const Vec2 grad(energy(p + Vec2(h, 0)) - energy(p - Vec2(h, 0)),
-                    energy(p + Vec2(0, h)) - energy(p - Vec2(0, h)));
+    // Central-difference gradient, then the perpendicular direction. Where
+    // the differences are not valid (a vertex sitting on a vertex of the
+    // other side, whose edges leave along the axes: a step onto one, or one
+    // so small that it leaves pieces too small to keep, is refused), along
+    // axes turned by 0.4 radians, and wider.
+    Vec2 grad(NAN, NAN);
+    for (const auto [h, turn] : {std::pair{1e-5, 0.0}, {1e-5, 0.4}, {1e-3, 0.4}, {1e-2, 0.4}}) {
+      const Vec2 u(std::cos(turn), std::sin(turn)), w(-u.y(), u.x());
+      const double step = h * scale;
+      const double du = energy(p + step * u) - energy(p - step * u);
+      const double dw = energy(p + step * w) - energy(p - step * w);
+      grad = du * u + dw * w;
+      if (grad.allFinite()) break;
+    }
     if (!grad.allFinite() || grad.norm() == 0) break;
     search(-grad);
     search(Vec2(-grad.y(), grad.x()));

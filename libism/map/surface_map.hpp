@@ -89,8 +89,10 @@ struct MapMeasures {
 };
 
 /// Minimises `energy` over p inside the kernel of the polygon `ring` (line
-/// searches along the gradient and its perpendicular, twice); p moves to the
-/// best point found. Returns the energy there.
+/// searches along the gradient and its perpendicular, twice; the gradient
+/// by central differences of 1e-5 of the ring's size, along turned axes and
+/// wider steps where those are not finite); p moves to the best point found.
+/// Returns the energy there.
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy);
 
