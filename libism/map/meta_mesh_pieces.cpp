@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <unordered_set>
 
 namespace ism {
@@ -146,8 +148,29 @@ Cut cut(const MetaMesh& meta) {
 }  // namespace
 
 std::array<Vec2, 3> meta_face_layout(const FaceLengths& l) {
-  // l[k] is edge k -> k+1; triangle_layout wants the edge opposite each corner.
-  return triangle_layout({l[1], l[2], l[0]});
+  // The local operations ask for the same few faces' layouts thousands of
+  // times; a small per-thread table keyed by the lengths' bits returns the
+  // very same numbers without recomputing them (Kahan's area: a sort and a
+  // square root).
+  struct Entry {
+    FaceLengths key{-1, -1, -1};
+    std::array<Vec2, 3> layout;
+  };
+  constexpr std::size_t kSlots = 1024;
+  thread_local std::array<Entry, kSlots> table;
+  std::uint64_t h = 0;
+  for (double x : l) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h = (h ^ bits) * 0x9E3779B97F4A7C15ull;
+  }
+  Entry& e = table[(h >> 40) % kSlots];
+  if (std::memcmp(e.key.data(), l.data(), sizeof(FaceLengths)) != 0) {
+    // l[k] is edge k -> k+1; triangle_layout wants the edge opposite each corner.
+    e.layout = triangle_layout({l[1], l[2], l[0]});
+    e.key = l;
+  }
+  return e.layout;
 }
 
 std::optional<std::vector<MetaPiece>> meta_pieces(const MetaMesh& meta) {
