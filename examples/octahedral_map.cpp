@@ -106,18 +106,11 @@ int main(int argc, char** argv) {
   ism::SurfaceMap map(domain, pm, map_options);
   ism::RefineOptions options;
   options.validate_each_step = each;
-  if (std::getenv("ISM_NO_LOCAL")) options.local_relaxation_budget = 0;
-  if (std::getenv("ISM_NO_DISC")) options.max_discs = 0, options.local_disc_every = 0;
-  if (std::getenv("ISM_FEW_SWEEPS"))
+  const bool plain = std::getenv("ISM_PLAIN") != nullptr;
+  if (plain || std::getenv("ISM_NO_LOCAL")) options.local_relaxation_budget = 0;
+  if (plain || std::getenv("ISM_NO_DISC")) options.max_discs = 0, options.local_disc_every = 0;
+  if (plain || std::getenv("ISM_FEW_SWEEPS"))
     options.coarse_vertices = 0, options.max_level_sweeps = 2, options.max_final_sweeps = 4;
-  if (std::getenv("ISM_PLAIN")) {
-    options.local_relaxation_budget = 0;
-    options.max_discs = 0;
-    options.local_disc_every = 0;
-    options.coarse_vertices = 0;
-    options.max_level_sweeps = 2;
-    options.max_final_sweeps = 4;
-  }
   const ism::RefineStats stats = ism::refine(map, options);
   lap("refine");
   const auto problem = map.validate();

@@ -142,6 +142,16 @@ std::vector<FaceLengths> torus_3x3_lengths(const TriangleMesh& torus) {
   return out;
 }
 
+std::optional<std::array<int, 2>> DomainGeometry::find_face(const Triangle& corners) const {
+  for (std::size_t f = 0; f < n_faces(); ++f) {
+    const Triangle& t = mesh_.triangles[f];
+    for (int r = 0; r < 3; ++r)
+      if (corners[0] == t[r] && corners[1] == t[(r + 1) % 3] && corners[2] == t[(r + 2) % 3])
+        return std::array<int, 2>{int(f), r};
+  }
+  return std::nullopt;
+}
+
 std::vector<FaceLengths> equilateral_lengths(const TriangleMesh& domain) {
   return std::vector<FaceLengths>(domain.n_faces(), FaceLengths{1.0, 1.0, 1.0});
 }

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace ism {
@@ -61,6 +62,12 @@ class DomainGeometry {
   /// the face rotated to start at angle fan[i].start (plus `turns` full
   /// total angles, for charts that wrap around v).
   std::array<Vec2, 3> fan_layout(int v, int i, double extra_angle = 0.0) const;
+
+  /// The face whose corners are `corners` in this cyclic order, and the
+  /// rotation r with corners[k] == face's corner (k + r) % 3; nothing if no
+  /// face has them (or only in the other orientation). Linear in the faces
+  /// (domains are small).
+  std::optional<std::array<int, 2>> find_face(const Triangle& corners) const;
 
   /// The layout of the face across edge k of a face laid out as `layout`.
   std::array<Vec2, 3> unfold(int f, const std::array<Vec2, 3>& layout, int k) const;

@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <map>
 #include <stdexcept>
 
 namespace ism {
@@ -37,20 +36,14 @@ MapSideInput side_from_domain(const DomainGeometry& domain, const ProgressiveMes
   std::vector<int> domain_vertex(pm.base.n_vertices(), -1);
   for (std::size_t i = 0; i < pm.base_vertices.size(); ++i)
     domain_vertex[pm.base_vertices[i]] = int(i);
-  // Each domain face under its three rotations -> (face, rotation).
-  std::map<Triangle, std::pair<int, int>> domain_face;
-  for (std::size_t f = 0; f < domain.n_faces(); ++f) {
-    const Triangle& t = domain.mesh().triangles[f];
-    for (int r = 0; r < 3; ++r) domain_face[{t[r], t[(r + 1) % 3], t[(r + 2) % 3]}] = {int(f), r};
-  }
   MapSideInput in;
   in.n_vertices = domain.n_vertices();
   for (std::size_t v = 0; v < in.n_vertices; ++v) in.base_vertices.push_back(int(v));
   for (const Triangle& t : pm.base.triangles) {
     const Triangle d{domain_vertex[t[0]], domain_vertex[t[1]], domain_vertex[t[2]]};
-    const auto it = domain_face.find(d);
-    if (it == domain_face.end()) throw std::invalid_argument("a base face is not a domain face");
-    const auto [f, r] = it->second;
+    const auto found = domain.find_face(d);
+    if (!found) throw std::invalid_argument("a base face is not a domain face");
+    const auto [f, r] = *found;
     const FaceLengths& l = domain.lengths(f);
     in.base_faces.push_back(d);
     in.base_lengths.push_back({l[r], l[(r + 1) % 3], l[(r + 2) % 3]});
@@ -195,14 +188,8 @@ void InterSurfaceMap::rollback(Edit& edit) {
 // ---------------------------------------------------------------- energy and checks
 
 double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const {
-  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
-  double sum = 0;
-  for (int f : faces) {
-    const FaceCut cut = cut_face(meta_, index_, s, f);
-    if (cut.error) return HUGE_VAL;
-    for (const MetaPiece& piece : cut.pieces) sum += piece_energy(piece, terms);
-  }
-  return sum;
+  double energy = 0;
+  return check_faces(s, faces, &energy) ? HUGE_VAL : energy;
 }
 
 double InterSurfaceMap::energy() const {

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
-#include <map>
 #include <stdexcept>
 
 namespace ism {
@@ -47,24 +46,15 @@ SurfaceMap::SurfaceMap(const DomainGeometry& domain, const ProgressiveMesh& pm, 
     location_[v].bary[entry.corner] = 1.0;
     pinned_[v] = domain.is_cone(int(i)) || is_fixed(int(i)) || !options_.release_features;
   }
-  std::map<std::array<int, 3>, int> domain_face;
-  for (std::size_t f = 0; f < domain.n_faces(); ++f) {
-    std::array<int, 3> t = domain.mesh().triangles[f];
-    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-    domain_face[t] = int(f);
-  }
   for (const Triangle& t : pm.base.triangles) {
-    std::array<int, 3> d{domain_vertex_of[t[0]], domain_vertex_of[t[1]], domain_vertex_of[t[2]]};
-    const int shift = int(std::min_element(d.begin(), d.end()) - d.begin());
-    std::array<int, 3> key = d;
-    std::rotate(key.begin(), key.begin() + shift, key.end());
-    auto it = domain_face.find(key);
-    if (it == domain_face.end()) throw std::invalid_argument("base face is not a domain face");
+    const auto found =
+        domain.find_face({domain_vertex_of[t[0]], domain_vertex_of[t[1]], domain_vertex_of[t[2]]});
+    if (!found) throw std::invalid_argument("base face is not a domain face");
     const int f = int(faces_.size());
     add_face(t);
     // Each base half-edge runs along a domain edge: it is kept in the domain
     // face on its left, the face it bounds.
-    for (int k = 0; k < 3; ++k) walks_[f][k].start_face = it->second;
+    for (int k = 0; k < 3; ++k) walks_[f][k].start_face = (*found)[0];
   }
   active_vertices_ = pm.base_vertices.size();
 }
@@ -574,7 +564,7 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     // so small that it leaves pieces too small to keep, is refused), along
     // axes turned by 0.4 radians, and wider.
     Vec2 grad(NAN, NAN);
-    for (const auto [h, turn] : {std::pair{1e-5, 0.0}, {1e-5, 0.4}, {1e-3, 0.4}, {1e-2, 0.4}}) {
+    for (const auto& [h, turn] : {std::pair{1e-5, 0.0}, {1e-5, 0.4}, {1e-3, 0.4}, {1e-2, 0.4}}) {
       const Vec2 u(std::cos(turn), std::sin(turn)), w(-u.y(), u.x());
       const double step = h * scale;
       const double du = energy(p + step * u) - energy(p - step * u);

@@ -38,8 +38,10 @@ double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options)
   return gain;
 }
 
-double surfaces_local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
-  if (!(options.local_relaxation_budget > 0)) return 0;
+LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
+                                               const SurfaceRefineOptions& options) {
+  LocalRelaxationStats stats;
+  if (!(options.local_relaxation_budget > 0)) return stats;
   std::deque<std::pair<int, int>> queue;
   std::array<std::vector<char>, 2> queued;
   for (int side = 0; side < 2; ++side) queued[side].assign(map.meta().side[side].n_vertices(), 0);
@@ -53,17 +55,16 @@ double surfaces_local_relaxation(InterSurfaceMap& map, const SurfaceRefineOption
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   const double threshold = options.local_relaxation_gain * map.energy() / vertices;
   const auto max_moves = std::size_t(options.local_relaxation_budget * vertices);
-  double gain = 0;
-  for (std::size_t moves = 0; !queue.empty() && moves < max_moves; ++moves) {
+  for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
     const double g = optimise(map, options, side, v);
-    gain += g;
+    stats.gain += g;
     if (g > threshold)
       for (int w : map.neighbours(side, v)) enqueue(side, w);
   }
-  return gain;
+  return stats;
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
@@ -100,7 +101,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         ++stats.sweeps;
         if (surfaces_sweep(map, options) < 1e-3 * e) break;
       }
-      surfaces_local_relaxation(map, options);
+      stats.local_moves += surfaces_local_relaxation(map, options).moves;
       last_sweep = total;
     }
     if (options.progress && total_splits)
@@ -111,7 +112,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     ++stats.final_sweeps;
     if (surfaces_sweep(map, options) < options.final_relative_gain * e) break;
   }
-  surfaces_local_relaxation(map, options);
+  stats.local_moves += surfaces_local_relaxation(map, options).moves;
   stats.energy = map.energy();
   return stats;
 }

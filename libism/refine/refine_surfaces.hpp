@@ -7,6 +7,7 @@
 // `sweep_growth`, every vertex of both sides is; final sweeps at full
 // resolution until the relative gain is small.
 #include "map/inter_surface_map.hpp"
+#include "refine/refine.hpp"
 
 #include <functional>
 
@@ -52,7 +53,8 @@ struct SurfaceRefineOptions {
 };
 
 struct SurfaceRefineStats {
-  std::size_t splits = 0, sweeps = 0, final_sweeps = 0, local_moves = 0;
+  std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
+  std::size_t local_moves = 0;  // moves of the local relaxation queues
   double energy = 0;
 };
 
@@ -63,7 +65,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// The local relaxation queue described at SurfaceRefineOptions (with its
-/// gain and budget); the energy gained.
-double surfaces_local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options);
+/// gain and budget): the energy gained and the moves made (no discs).
+LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
+                                               const SurfaceRefineOptions& options);
 
 }  // namespace ism
