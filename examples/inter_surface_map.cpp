@@ -6,7 +6,7 @@
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
-//                     [--local-budget B]
+//                     [--local-budget B] [--kinks-follow-cells]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -17,6 +17,9 @@
 // not also the other side's vertices in it.
 // --local-budget B runs the local relaxation queue after each level's sweeps
 // (SurfaceRefineOptions::local_relaxation_budget; 0: never).
+// --kinks-follow-cells bends edges wherever they cross a cell whose map is
+// not affine (InterSurfaceOptions::kinks; default: the paper's rule, only
+// where a straight segment would leave the cell).
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -47,6 +50,7 @@ int main(int argc, char** argv) {
   std::size_t block = 1;
   double local_budget = -1;
   bool other_side = true;
+  ism::InterSurfaceOptions map_options;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--validate-each-step") == 0)
       each = true;
@@ -62,6 +66,8 @@ int main(int argc, char** argv) {
       block = std::size_t(std::atol(argv[++i]));
     else if (std::strcmp(argv[i], "--this-side-only") == 0)
       other_side = false;
+    else if (std::strcmp(argv[i], "--kinks-follow-cells") == 0)
+      map_options.kinks = ism::KinkRule::follow_cells;
     else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
@@ -77,7 +83,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
-                 "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B]\n");
+                 "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B] "
+                 "[--kinks-follow-cells]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -118,7 +125,7 @@ int main(int argc, char** argv) {
   std::printf("base: %zu vertices (%zu features given), %zu faces; genus %d\n",
               networks.base.n_vertices(), pairs.size(), networks.base.n_faces(), networks.genus);
   lap("partition");
-  ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]));
+  ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]), map_options);
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
   options.block = block;

@@ -7,6 +7,8 @@
 // of SurfaceMap, for comparison. Environment: ISM_HOLD holds the features
 // (both cores); ISM_LEVEL_SWEEPS, ISM_FINAL_SWEEPS and ISM_LOCAL_BUDGET set
 // the symmetric core's sweep counts and local relaxation budget;
+// ISM_FOLLOW_CELLS bends its edges wherever they cross a cell whose map is
+// not affine (InterSurfaceOptions::kinks);
 // ISM_NO_LOCAL, ISM_NO_DISC, ISM_FEW_SWEEPS (2 per level, 4 final, no
 // coarse-level extra) and ISM_PLAIN (all three) strip SurfaceMap's
 // refinement schedule.
@@ -33,6 +35,7 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
                   Lap& lap) {
   ism::InterSurfaceOptions map_options;
   map_options.hold_features = std::getenv("ISM_HOLD") != nullptr;
+  if (std::getenv("ISM_FOLLOW_CELLS")) map_options.kinks = ism::KinkRule::follow_cells;
   ism::InterSurfaceMap map(ism::side_from_domain(domain, pm), ism::side_from_pm(pm), map_options);
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;

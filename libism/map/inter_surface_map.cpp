@@ -241,6 +241,7 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   double after = 0;
   const auto problem = check_faces(s, faces, &after);
   if (problem || !(after < HUGE_VAL) || (need_gain && !(after < energy_before * (1 - 1e-12)))) {
+    last_refusal_ = problem ? *problem : !(after < HUGE_VAL) ? "infinite energy" : "no gain";
     rollback(edit);
     return std::nullopt;
   }

@@ -22,6 +22,7 @@
 // chart is an isometric development of the other side (no vertex of the
 // other side inside, nothing bent) the energy is that of the one-ring's
 // triangles in the chart (the fast path); otherwise that of every piece.
+#include "map/chart_cell.hpp"
 #include "map/meta_cut.hpp"
 #include "pm/pm.hpp"
 
@@ -69,6 +70,10 @@ struct InterSurfaceOptions {
   bool hold_features = false;
   /// Weight of the inverse term (side 1 -> side 0) of the symmetric energy.
   double inverse_weight = 1.0;
+  /// Where a moved vertex's edges bend inside a face of the other side
+  /// (chart_cell.hpp). Which rule maps better depends on the pair; measured
+  /// in docs/results-two-surfaces.md.
+  KinkRule kinks = KinkRule::where_needed;
 };
 
 /// What the local operations did (for reports and tests).
@@ -227,6 +232,7 @@ class InterSurfaceMap {
   std::array<double, 2> area_{0, 0};
   mutable MapOperationStats stats_;
   mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
+  std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
 };
 
 }  // namespace ism

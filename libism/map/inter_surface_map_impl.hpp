@@ -1,5 +1,6 @@
 #pragma once
 // Internal types of InterSurfaceMap shared by its source files.
+#include "map/chart_cell.hpp"
 #include "map/inter_surface_map.hpp"
 
 #include <map>
@@ -57,17 +58,10 @@ struct InterSurfaceMap::Chart {
     int first, last;
   };
   std::vector<Chord> chords;
-  /// The cells of t's content in the chart (for locating moved vertices):
-  /// corners in the chart and in t's face `face`.
-  struct Fragment {
-    std::vector<Vec2> chart, other;
+  /// The cells of t's content in the chart (for locating moved vertices
+  /// and bending edges across them), each in t's face `face`.
+  struct Fragment : ChartCell {
     int face;
-    /// Whether its map to t is one affine map; otherwise the map goes
-    /// through a triangulation valid on both (edges drawn straight across
-    /// it bend at its diagonals: kinks).
-    bool convex = true;
-    std::vector<std::array<int, 3>> triangles;
-    std::vector<Vec2> tri_chart, tri_other;  // the points the triangles refer to
   };
   std::vector<Fragment> fragments;
 };

@@ -1,6 +1,7 @@
 // The local operations of InterSurfaceMap (paper §5.1): a one-ring of one
 // side laid out in a chart of the other, vertex optimisation by line
 // searches in the kernel of the ring, and vertex splits.
+#include "map/chart_cell.hpp"
 #include "map/inter_surface_map.hpp"
 #include "map/inter_surface_map_impl.hpp"
 #include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
@@ -18,76 +19,6 @@ namespace ism {
 namespace {
 
 using Layout3 = std::array<Vec2, 3>;
-
-bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vec2 &a = poly[i], &b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x())
-      in = !in;
-  }
-  return in;
-}
-
-/// Whether the straight segment ab (ends on or inside the simple polygon)
-/// stays inside it: it crosses no side, passes through no corner between
-/// its ends, and its midpoint is inside. Near-touches count as leaving.
-bool segment_inside_polygon(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b) {
-  const double scale = (b - a).squaredNorm();
-  if (!(scale > 0)) return false;
-  const double tol = 1e-9 * scale;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vec2 &c = poly[j], &d = poly[i];
-    const double o1 = orient(a, b, c), o2 = orient(a, b, d);
-    const double o3 = orient(c, d, a), o4 = orient(c, d, b);
-    if (((o1 > tol && o2 < -tol) || (o1 < -tol && o2 > tol)) &&
-        ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-      return false;  // crosses side cd
-    // Corner d on the open segment (not at an end).
-    const double u = (d - a).dot(b - a) / scale;
-    if (std::abs(o2) <= tol && u > 1e-9 && u < 1 - 1e-9) return false;
-  }
-  return inside_polygon(poly, 0.5 * (a + b));
-}
-
-/// Mean-value interpolation (Floater 2003) at p of values given at the
-/// corners of a polygon around it.
-Vec2 mean_value(const std::vector<Vec2>& poly, const std::vector<Vec2>& value, const Vec2& p) {
-  const std::size_t n = poly.size();
-  std::vector<double> tan_half(n);
-  for (std::size_t j = 0; j < n; ++j) {
-    const Vec2 a = poly[j] - p, b = poly[(j + 1) % n] - p;
-    const double ra = a.norm(), rb = b.norm();
-    if (ra < 1e-300) return value[j];
-    const double cross = a.x() * b.y() - a.y() * b.x();
-    tan_half[j] = cross / (ra * rb + a.dot(b));
-  }
-  Vec2 sum = Vec2::Zero();
-  double total = 0;
-  for (std::size_t j = 0; j < n; ++j) {
-    const double w = (tan_half[(j + n - 1) % n] + tan_half[j]) / (poly[j] - p).norm();
-    sum += w * value[j];
-    total += w;
-  }
-  return sum / total;
-}
-
-/// The image on t of a chart point inside a fragment: mean-value
-/// interpolation in a convex one, affine on its triangles otherwise.
-template <class Fragment>
-Vec2 fragment_image(const Fragment& f, const Vec2& p) {
-  if (f.convex) return mean_value(f.chart, f.other, p);
-  Eigen::Vector3d best = Eigen::Vector3d::Constant(-HUGE_VAL);
-  std::array<int, 3> tri = f.triangles.front();
-  for (const auto& t : f.triangles) {
-    const Eigen::Vector3d b =
-        barycentric(p, f.tri_chart[t[0]], f.tri_chart[t[1]], f.tri_chart[t[2]]);
-    if (b.minCoeff() > best.minCoeff()) best = b, tri = t;
-  }
-  return best[0] * f.tri_other[tri[0]] + best[1] * f.tri_other[tri[1]] +
-         best[2] * f.tri_other[tri[2]];
-}
 
 /// Barycentric coordinates kept inside the face (rounding), summing to 1.
 Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
@@ -482,37 +413,14 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         fragment.other = std::move(other);
       }
       if (fragment.face < 0) return chart_fail(402);
-      for (int c : cell) fragment.chart.push_back(position[c]);
-      // Affine: the cell's map to t is one affine map (the chart is a true
-      // development here); otherwise edges crossing it follow a
-      // triangulation valid on both and bend at its diagonals.
-      const std::size_t n = cell.size();
-      if (n > 3) {
-        const auto& P = fragment.chart;
-        const auto& Q = fragment.other;
-        std::size_t k = 2;
-        while (k < n && std::abs(orient(P[0], P[1], P[k])) <= 1e-9 * polygon_area(P)) ++k;
-        if (k == n) {
-          fragment.convex = false;
-        } else {
-          const double scale = std::sqrt(polygon_area(Q));
-          for (std::size_t i = 0; i < n && fragment.convex; ++i) {
-            const Eigen::Vector3d b = barycentric(P[i], P[0], P[1], P[k]);
-            fragment.convex =
-                (b[0] * Q[0] + b[1] * Q[1] + b[2] * Q[k] - Q[i]).norm() <= 1e-9 * scale;
-          }
-        }
-      }
-      if (!fragment.convex) {
-        MetaPiece both;
-        both.corner = {fragment.chart, fragment.other};
-        both.area = {polygon_area(fragment.chart), polygon_area(fragment.other)};
-        PieceTriangulation tri = triangulate_piece(both);
-        if (tri.triangles.empty()) return chart_fail(403);
-        fragment.triangles = std::move(tri.triangles);
-        fragment.tri_chart = std::move(tri.points[0]);
-        fragment.tri_other = std::move(tri.points[1]);
-      }
+      std::vector<Vec2> in_chart;
+      for (int c : cell) in_chart.push_back(position[c]);
+      // The cell's map to t: affine where the chart is a true development
+      // there; otherwise through a triangulation valid on both, and edges
+      // crossing it may bend at its diagonals.
+      auto made = make_chart_cell(std::move(in_chart), std::move(fragment.other));
+      if (!made) return chart_fail(403);
+      static_cast<ChartCell&>(fragment) = std::move(*made);
       chart.fragments.push_back(std::move(fragment));
     }
     // The cells must tile the ring (no chord crossing another or the ring).
@@ -699,7 +607,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (const auto& fragment : chart.fragments)
         if (inside_polygon(fragment.chart, p)) {
           face = fragment.face;
-          q = fragment_image(fragment, p);
+          q = cell_image(fragment, p);
           break;
         }
     }
@@ -779,36 +687,23 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
         for (const auto& fragment : chart.fragments) {
-          if (fragment.convex || !inside_polygon(fragment.chart, mid)) continue;
-          // Paper §5.1: the segment's ends are mapped to t; only where the
-          // straight segment between them on t would leave the cell does
-          // the edge bend (at the cell's diagonals).
+          if (fragment.affine || !inside_polygon(fragment.chart, mid)) continue;
+          // The segment's ends mapped to t; where it bends there, as the
+          // options' kink rule says (paper §5.1: only where a straight
+          // segment between them would leave the cell).
           const auto a = place_in_face(meta_, t, fragment.face, place[chain[j].second]);
           const auto b = place_in_face(meta_, t, fragment.face, place[chain[j + 1].second]);
-          if (a && b && segment_inside_polygon(fragment.other, *a, *b)) break;
-          const int n = int(fragment.chart.size());
+          const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
           const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
-          for (const auto& tri : fragment.triangles)
-            for (int k = 0; k < 3; ++k) {
-              const int c0 = tri[k], c1 = tri[(k + 1) % 3];
-              const bool side =
-                  c0 < n && c1 < n && ((c1 - c0 + n) % n == 1 || (c0 - c1 + n) % n == 1);
-              if (c0 > c1 || side) continue;
-              const Vec2 &C = fragment.tri_chart[c0], &D = fragment.tri_chart[c1];
-              const double o1 = orient(A, B, C), o2 = orient(A, B, D);
-              const double o3 = orient(C, D, A), o4 = orient(C, D, B);
-              if (!(o1 * o2 < 0 && o3 * o4 < 0)) continue;
-              const double lambda = o1 / (o1 - o2);
-              const int node = int(pos.size());
-              const Vec2 x = C + lambda * (D - C);
-              pos.push_back(x);
-              const Vec2 image = fragment.tri_other[c0] +
-                                 lambda * (fragment.tri_other[c1] - fragment.tri_other[c0]);
-              const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
-              place.push_back({Place::face, fragment.face, 0,
-                               clamp_bary(barycentric(image, L[0], L[1], L[2]))});
-              kinks.push_back({(x - P).dot(Q - P) / (Q - P).squaredNorm(), node});
-            }
+          const KinkRule rule = a && b ? options_.kinks : KinkRule::follow_cells;
+          for (const CellKink& kink :
+               cell_kinks(fragment, A, B, a.value_or(A), b.value_or(B), rule)) {
+            const int node = int(pos.size());
+            pos.push_back(kink.chart);
+            place.push_back({Place::face, fragment.face, 0,
+                             clamp_bary(barycentric(kink.other, L[0], L[1], L[2]))});
+            kinks.push_back({(kink.chart - P).dot(Q - P) / (Q - P).squaredNorm(), node});
+          }
           break;
         }
       }
@@ -1065,6 +960,30 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
   };
   int face = -1;
   Vec2 target;
+  if (pt.kind == Place::face) {
+    // vt inside a face of t: every spoke's first segment lies in it. The
+    // slivers (vs, vt, vl) and (vt, vs, vr) are positive when vs leaves vt
+    // less than a half-turn counter-clockwise of (vt, vl) and less than a
+    // half-turn clockwise of (vt, vr): half-way round the wedge from one to
+    // the other is both, whatever its angle.
+    const auto f0 = first_place(chart.spoke[0], vt), f1 = first_place(chart.spoke[last], vt);
+    const int f = pt.index;
+    const auto a = place_in_face(meta_, t, f, pt);
+    const auto b = f0 ? place_in_face(meta_, t, f, *f0) : std::nullopt;
+    const auto c = f1 ? place_in_face(meta_, t, f, *f1) : std::nullopt;
+    if (a && b && c && (*b - *a).norm() > 0 && (*c - *a).norm() > 0) {
+      double reach = std::min((*b - *a).norm(), (*c - *a).norm());
+      for (std::size_t j = 1; j < last; ++j)
+        if (const auto first = first_place(chart.spoke[j], vs))
+          if (const auto p = place_in_face(meta_, t, f, *first))
+            reach = std::min(reach, (*p - *a).norm());
+      const Vec2 u = *b - *a, w = *c - *a;
+      double angle = std::atan2(u.x() * w.y() - u.y() * w.x(), u.dot(w));
+      if (angle <= 0) angle += 2 * M_PI;
+      const Vec2 d = Eigen::Rotation2Dd(0.5 * angle) * u.normalized();
+      if (reach > 0) face = f, target = *a + eps * reach * d;
+    }
+  }
   for (std::size_t j = 1; j < last && face < 0; ++j) {
     const auto first = first_place(chart.spoke[j], vs);
     if (!first) continue;
@@ -1367,6 +1286,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   for (double eps = 1e-3; eps > 1e-12; eps *= 1e-2) {
     Proposal proposal;
     const bool set_up = split_in_place(chart, last, vs, e_vl, e_vr, eps, proposal);
+    if (!set_up) last_refusal_ = "the split in place could not be set up";
     if (set_up && apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
       ++stats_.splits_in_place;
       return vs;
@@ -1458,7 +1378,8 @@ int InterSurfaceMap::split_next(int s) {
           std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
           " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
           "): no valid placement of the new vertex after " + std::to_string(kSplitRetries) +
-          " retries (" + std::to_string(chart_failure_) + ")");
+          " retries (chart " + std::to_string(chart_failure_) + "; in place: " + last_refusal_ +
+          ")");
     // The map is as before the split. Move what makes vt's ring hard to
     // chart: the other side's vertices inside or on the ring, then vt and
     // its neighbours (each move kept only if valid and lower in energy),
