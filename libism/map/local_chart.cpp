@@ -683,6 +683,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     chain.push_back({1.0, nb_});
     if (chart.kind == Chart::general) {
       const Vec2 P = pos[na], Q = pos[nb_];
+      const int first_kink = int(pos.size());
       std::vector<std::pair<double, int>> kinks;
       for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
@@ -699,9 +700,17 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           for (const CellKink& kink :
                cell_kinks(fragment, A, B, a.value_or(A), b.value_or(B), rule)) {
             const int node = int(pos.size());
+            const Eigen::Vector3d bary = barycentric(kink.other, L[0], L[1], L[2]);
+            // Clear of t's edges as a moved vertex is (a kink that close
+            // leaves pieces later charts cannot lay out).
+            if (bary.minCoeff() < layout.clearance) return eval_fail(97);
+            const double size =
+                std::max({(L[1] - L[0]).norm(), (L[2] - L[1]).norm(), (L[0] - L[2]).norm()});
+            if ((a && (kink.other - *a).norm() < layout.clearance * size) ||
+                (b && (kink.other - *b).norm() < layout.clearance * size))
+              return eval_fail(98);
             pos.push_back(kink.chart);
-            place.push_back({Place::face, fragment.face, 0,
-                             clamp_bary(barycentric(kink.other, L[0], L[1], L[2]))});
+            place.push_back({Place::face, fragment.face, 0, clamp_bary(bary)});
             kinks.push_back({(kink.chart - P).dot(Q - P) / (Q - P).squaredNorm(), node});
           }
           break;
@@ -709,6 +718,13 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       }
       chain.insert(chain.end() - 1, kinks.begin(), kinks.end());
       std::sort(chain.begin(), chain.end());
+      // Kinks clear of the spoke's other break points, as crossings are
+      // of its ends.
+      for (std::size_t k = 1; k + 1 < chain.size(); ++k)
+        if (chain[k].second >= first_kink &&
+            (chain[k].first - chain[k - 1].first < layout.clearance ||
+             chain[k + 1].first - chain[k].first < layout.clearance))
+          return eval_fail(95);
     }
   }
   std::vector<Place> s_place(pos.size());  // places on s of the new crossings and kinks

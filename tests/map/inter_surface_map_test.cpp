@@ -538,27 +538,33 @@ TEST(InterSurfaceMap, BothSidesRefineSpotAndBunny) {
   EXPECT_GT(m.symmetric_efficiency, 0.33);  // measured 0.470
 }
 
-// Known limitation (the next step of the map core), run with
-// --gtest_also_run_disabled_tests: the genus-2 pair stops at M² split 68
-// (no valid placement after the retries, 300 s); the genus-1 pair was still
-// running after 15 minutes of CPU (validation every 5 operations and the
-// energy twice per move, on a twisted base map). Neither fits in CI yet.
-// The example's runs of these genera: docs/results-two-surfaces.md.
-TEST(InterSurfaceMap, DISABLED_BothSidesRefineGenusOneTorusAndCup) {
+// Genus 1: a generated torus and cup.obj, both from the 3x3 torus grid,
+// validated from both sides after every operation.
+TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
   ISM_REQUIRE_SHARED_MODELS();
   const TriangleMesh a = shapes::torus(300), b = decimated_model("cup.obj", 150);
   const TriangleMesh grid = domain::torus_3x3();
   const ProgressiveMesh pa = simplify_constrained(trace_torus_network(a), grid);
   const ProgressiveMesh pb = simplify_constrained(trace_torus_network(b), grid);
   InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
-  refine_both_checked(map, 5, 2);
+  refine_both_checked(map, 1, 2);
   if (HasFatalFailure()) return;
   const MapMeasures m = map.measures();
   std::printf("torus %zu / cup %zu faces: symmetric efficiency %.4f\n", map.n_faces(0),
               map.n_faces(1), m.symmetric_efficiency);
   EXPECT_FALSE(map.validate());
-  EXPECT_GT(m.symmetric_efficiency, 0.2);
+  EXPECT_EQ(map.n_faces(0), replay(pa).n_faces());
+  EXPECT_EQ(map.n_faces(1), replay(pb).n_faces());
+  EXPECT_GT(m.symmetric_efficiency, 0.25);  // measured 0.305
 }
+
+// Known limitation, run with --gtest_also_run_disabled_tests: the genus-2
+// pair stops at M² split 1387 (no valid placement of the new vertex after 3
+// retries: every candidate needs a kink too close to a break point, and the
+// split in place folds a piece; 364 s). It stopped at split 68 in November,
+// at 205 before the split in place chose its direction in the wedge, and at
+// 968 before kinks had to keep clear of break points. The example's runs of
+// this genus: docs/results-two-surfaces.md.
 
 TEST(InterSurfaceMap, DISABLED_BothSidesRefineGenusTwo) {
   ISM_REQUIRE_SHARED_MODELS();
