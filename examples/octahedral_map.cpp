@@ -27,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 
 namespace {
 
@@ -47,7 +48,19 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
   options.progress = [&](double f) {
     if (int(f * 10) > shown) std::fprintf(stderr, "refine %3d %%\n", (shown = int(f * 10)) * 10);
   };
-  const ism::SurfaceRefineStats stats = ism::refine_surfaces(map, options);
+  ism::SurfaceRefineStats stats;
+  try {
+    stats = ism::refine_surfaces(map, options);
+  } catch (const std::exception& e) {
+    // A split that cannot be placed is undone: the map is the one before it.
+    const auto problem = map.validate();
+    std::fprintf(stderr,
+                 "octahedral_map: refinement stopped at %zu surface faces: %s; the map there: %s, "
+                 "symmetric efficiency %.4f\n",
+                 map.n_faces(1), e.what(), problem ? problem->c_str() : "valid from both sides",
+                 map.measures().symmetric_efficiency);
+    return 1;
+  }
   lap("refine");
   const auto problem = map.validate();
   lap("validate");

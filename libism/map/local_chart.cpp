@@ -1298,8 +1298,10 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
       chart_failure_ = 5000;
     }
   }
-  // Fallback: vs next to vt, its edges along vt's old ones.
-  for (double eps = 1e-3; eps > 1e-12; eps *= 1e-2) {
+  // Fallback: vs next to vt, its edges along vt's old ones; as far out as
+  // the transaction accepts (a vertex put 1e-11 of the way leaves later
+  // splits there no room).
+  for (double eps = 0.25; eps > 1e-12; eps *= 0.0625) {
     Proposal proposal;
     const bool set_up = split_in_place(chart, last, vs, e_vl, e_vr, eps, proposal);
     if (!set_up) last_refusal_ = "the split in place could not be set up";
