@@ -58,7 +58,9 @@ struct SurfaceRefineStats {
   double energy = 0;
 };
 
-/// Refines both sides to full resolution.
+/// Refines both sides to full resolution. Throws std::runtime_error (from
+/// InterSurfaceMap::split_next, naming the split) when a split finds no valid
+/// place after its retries; the map is then the valid one before that split.
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// One optimisation of every active vertex of both sides; the energy gained.
