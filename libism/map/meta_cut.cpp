@@ -359,41 +359,60 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
     return std::nullopt;
   };
   const std::size_t n = position.size();
-  // Neighbours of each node, counter-clockwise.
-  std::vector<std::vector<std::pair<double, int>>> around(n);
+  // Neighbours of each node, counter-clockwise from the direction -pi: by
+  // a pseudo-angle in [-2, 2] that orders directions as atan2 does over
+  // [-pi, pi] (signed zeros included), at a division's cost.
+  auto pseudo_angle = [](const Vec2& d) {
+    const double x = d.x(), y = d.y(), t = std::abs(x) + std::abs(y);
+    const bool lower = y < 0 || (y == 0 && std::signbit(y) && x < 0);
+    if (t == 0) return 0.0;  // no direction (atan2 says 0)
+    if (x >= 0) return y / t;
+    return lower ? -2 - y / t : 2 - y / t;
+  };
+  // All neighbour lists in one array: node u's at [first[u], first[u + 1]).
+  std::vector<int> first(n + 1, 0);
   for (const auto& [u, v] : segments) {
     if (u == v) return fail("an edge of the other mesh has no length in it");
-    const Vec2 d = position[v] - position[u];
-    around[u].push_back({std::atan2(d.y(), d.x()), v});
-    around[v].push_back({std::atan2(-d.y(), -d.x()), u});
+    ++first[u + 1], ++first[v + 1];
   }
-  for (auto& a : around) {
-    if (a.empty()) continue;
-    std::sort(a.begin(), a.end());
-    for (std::size_t i = 1; i < a.size(); ++i)
-      if (a[i].second == a[i - 1].second) return fail("two segments join the same meta-vertices");
-    if (a.size() < 2) return fail("a meta-vertex on fewer than two segments");
+  for (std::size_t u = 0; u < n; ++u) first[u + 1] += first[u];
+  std::vector<std::pair<double, int>> around(2 * segments.size());
+  {
+    std::vector<int> fill(first.begin(), first.end() - 1);
+    for (const auto& [u, v] : segments) {
+      const Vec2 d = position[v] - position[u];
+      around[fill[u]++] = {pseudo_angle(d), v};
+      around[fill[v]++] = {pseudo_angle(-d), u};
+    }
+  }
+  for (std::size_t u = 0; u < n; ++u) {
+    const int b = first[u], e = first[u + 1];
+    if (b == e) continue;
+    std::sort(around.begin() + b, around.begin() + e);
+    for (int i = b + 1; i < e; ++i)
+      if (around[i].second == around[i - 1].second)
+        return fail("two segments join the same meta-vertices");
+    if (e - b < 2) return fail("a meta-vertex on fewer than two segments");
   }
   // Each directed segment bounds the cell on its left; the next one turns
   // as far right as possible (the first neighbour clockwise of the way back).
-  std::vector<std::vector<char>> done(n);
-  for (std::size_t u = 0; u < n; ++u) done[u].assign(around[u].size(), 0);
+  std::vector<char> done(around.size(), 0);
   int outer = 0;
   std::vector<std::vector<int>> cells;
   std::vector<int> cell;
   std::vector<Vec2> corners;
   for (std::size_t u0 = 0; u0 < n; ++u0)
-    for (std::size_t j0 = 0; j0 < around[u0].size(); ++j0) {
-      if (done[u0][j0]) continue;
+    for (int j0 = first[u0]; j0 < first[u0 + 1]; ++j0) {
+      if (done[j0]) continue;
       cell.clear();
-      int u = int(u0), j = int(j0);
-      while (!done[u][j]) {
-        done[u][j] = 1;
+      int u = int(u0), j = j0;
+      while (!done[j]) {
+        done[j] = 1;
         cell.push_back(u);
-        const int v = around[u][j].second;
-        int back = 0;
-        while (around[v][back].second != u) ++back;
-        j = (back + int(around[v].size()) - 1) % int(around[v].size());
+        const int v = around[j].second;
+        int back = first[v];
+        while (around[back].second != u) ++back;
+        j = back == first[v] ? first[v + 1] - 1 : back - 1;
         u = v;
         if (cell.size() > 2 * n) return fail("its arrangement is not planar");
       }
@@ -489,12 +508,14 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
       Vec2 centre = Vec2::Zero();
       for (int i : cell) centre += inC[i];
       centre /= double(cell.size());
-      std::sort(cell.begin(), cell.end(), [&](int x, int y) {
-        return std::atan2(inC[x].y() - centre.y(), inC[x].x() - centre.x()) <
-               std::atan2(inC[y].y() - centre.y(), inC[y].x() - centre.x());
-      });
-      for (std::size_t k = 1; k + 1 < cell.size(); ++k)
-        out.triangles.push_back({cell[0], cell[k], cell[k + 1]});
+      // Round the centre (angles computed once, not per comparison).
+      std::vector<std::pair<double, int>> around;
+      for (int i : cell)
+        around.push_back({std::atan2(inC[i].y() - centre.y(), inC[i].x() - centre.x()), i});
+      std::sort(around.begin(), around.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (std::size_t k = 1; k + 1 < around.size(); ++k)
+        out.triangles.push_back({around[0].second, around[k].second, around[k + 1].second});
     }
   return out;
 }
