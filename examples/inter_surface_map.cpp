@@ -6,7 +6,7 @@
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
-//                     [--local-budget B] [--kinks-follow-cells]
+//                     [--local-budget B] [--kinks RULE]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -17,9 +17,10 @@
 // not also the other side's vertices in it.
 // --local-budget B runs the local relaxation queue after each level's sweeps
 // (SurfaceRefineOptions::local_relaxation_budget; 0: never).
-// --kinks-follow-cells bends edges wherever they cross a cell whose map is
-// not affine (InterSurfaceOptions::kinks; default: the paper's rule, only
-// where a straight segment would leave the cell).
+// --kinks RULE says where edges bend (InterSurfaceOptions::kinks):
+// where_needed (default, the paper's: only where a straight segment would
+// leave its cell) or follow_cells (wherever they cross a cell whose map is
+// not affine).
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -66,9 +67,17 @@ int main(int argc, char** argv) {
       block = std::size_t(std::atol(argv[++i]));
     else if (std::strcmp(argv[i], "--this-side-only") == 0)
       other_side = false;
-    else if (std::strcmp(argv[i], "--kinks-follow-cells") == 0)
-      map_options.kinks = ism::KinkRule::follow_cells;
-    else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
+    else if (std::strcmp(argv[i], "--kinks") == 0 && i + 1 < argc) {
+      const std::string rule = argv[++i];
+      if (rule == "where_needed")
+        map_options.kinks = ism::KinkRule::where_needed;
+      else if (rule == "follow_cells")
+        map_options.kinks = ism::KinkRule::follow_cells;
+      else {
+        std::fprintf(stderr, "error: --kinks takes where_needed or follow_cells\n");
+        return 2;
+      }
+    } else if (std::strcmp(argv[i], "--faces") == 0 && i + 1 < argc)
       faces = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--pairs") == 0 && i + 1 < argc)
       pairs_file = argv[++i];
@@ -84,7 +93,7 @@ int main(int argc, char** argv) {
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
                  "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B] "
-                 "[--kinks-follow-cells]\n");
+                 "[--kinks where_needed|follow_cells]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -164,16 +173,7 @@ int main(int argc, char** argv) {
     stats = ism::refine_surfaces(map, options);
   } catch (const std::exception& e) {
     // A split that cannot be placed is undone: the map is the one before it.
-    const auto problem = map.validate();
-    std::fprintf(stderr,
-                 "inter_surface_map: refinement stopped at A %zu / B %zu faces: %s; the map there: "
-                 "%s, symmetric efficiency %.3g (energy %.3g, measures %s); splits retried %zu, "
-                 "in place %zu\n",
-                 map.n_faces(0), map.n_faces(1), e.what(),
-                 problem ? problem->c_str() : "valid from both sides",
-                 problem ? 0.0 : map.measures().symmetric_efficiency, map.energy(),
-                 ism::measures(map.meta()) ? "computed" : "failed", map.stats().split_retries,
-                 map.stats().splits_in_place);
+    std::fprintf(stderr, "inter_surface_map: %s\n", ism::describe_stop(map, e.what()).c_str());
     return 1;
   }
   lap("refine");

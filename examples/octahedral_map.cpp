@@ -7,8 +7,9 @@
 // of SurfaceMap, for comparison. Environment: ISM_HOLD holds the features
 // (both cores); ISM_LEVEL_SWEEPS, ISM_FINAL_SWEEPS and ISM_LOCAL_BUDGET set
 // the symmetric core's sweep counts and local relaxation budget;
-// ISM_FOLLOW_CELLS bends its edges wherever they cross a cell whose map is
-// not affine (InterSurfaceOptions::kinks);
+// ISM_KINKS=follow_cells bends its edges wherever they cross a cell whose
+// map is not affine (InterSurfaceOptions::kinks; default where_needed, the
+// paper's rule);
 // ISM_NO_LOCAL, ISM_NO_DISC, ISM_FEW_SWEEPS (2 per level, 4 final, no
 // coarse-level extra) and ISM_PLAIN (all three) strip SurfaceMap's
 // refinement schedule.
@@ -36,7 +37,8 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
                   Lap& lap) {
   ism::InterSurfaceOptions map_options;
   map_options.hold_features = std::getenv("ISM_HOLD") != nullptr;
-  if (std::getenv("ISM_FOLLOW_CELLS")) map_options.kinks = ism::KinkRule::follow_cells;
+  if (const char* rule = std::getenv("ISM_KINKS"); rule && std::strcmp(rule, "follow_cells") == 0)
+    map_options.kinks = ism::KinkRule::follow_cells;
   ism::InterSurfaceMap map(ism::side_from_domain(domain, pm), ism::side_from_pm(pm), map_options);
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
@@ -53,12 +55,7 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
     stats = ism::refine_surfaces(map, options);
   } catch (const std::exception& e) {
     // A split that cannot be placed is undone: the map is the one before it.
-    const auto problem = map.validate();
-    std::fprintf(stderr,
-                 "octahedral_map: refinement stopped at %zu surface faces: %s; the map there: %s, "
-                 "symmetric efficiency %.4f\n",
-                 map.n_faces(1), e.what(), problem ? problem->c_str() : "valid from both sides",
-                 map.measures().symmetric_efficiency);
+    std::fprintf(stderr, "octahedral_map: %s\n", ism::describe_stop(map, e.what()).c_str());
     return 1;
   }
   lap("refine");

@@ -695,6 +695,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           const auto a = place_in_face(meta_, t, fragment.face, place[chain[j].second]);
           const auto b = place_in_face(meta_, t, fragment.face, place[chain[j + 1].second]);
           const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
+          const double size =
+              std::max({(L[1] - L[0]).norm(), (L[2] - L[1]).norm(), (L[0] - L[2]).norm()});
           const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
           const KinkRule rule = a && b ? options_.kinks : KinkRule::follow_cells;
           for (const CellKink& kink :
@@ -704,8 +706,6 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             // Clear of t's edges as a moved vertex is (a kink that close
             // leaves pieces later charts cannot lay out).
             if (bary.minCoeff() < layout.clearance) return eval_fail(97);
-            const double size =
-                std::max({(L[1] - L[0]).norm(), (L[2] - L[1]).norm(), (L[0] - L[2]).norm()});
             if ((a && (kink.other - *a).norm() < layout.clearance * size) ||
                 (b && (kink.other - *b).norm() < layout.clearance * size))
               return eval_fail(98);

@@ -1,6 +1,7 @@
 #include "refine/refine_surfaces.hpp"
 
 #include <array>
+#include <cstdio>
 #include <deque>
 #include <stdexcept>
 #include <string>
@@ -115,6 +116,19 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   stats.local_moves += surfaces_local_relaxation(map, options).moves;
   stats.energy = map.energy();
   return stats;
+}
+
+std::string describe_stop(const InterSurfaceMap& map, const std::string& what) {
+  const auto problem = map.validate();
+  char sizes[64], figures[160];
+  std::snprintf(sizes, sizeof sizes, "%zu / %zu faces", map.n_faces(0), map.n_faces(1));
+  std::snprintf(figures, sizeof figures,
+                ", symmetric efficiency %.4f (energy %.4g); splits retried %zu, in place %zu",
+                problem ? 0.0 : map.measures().symmetric_efficiency, map.energy(),
+                map.stats().split_retries, map.stats().splits_in_place);
+  return std::string("refinement stopped at ") + sizes + ": " + what +
+         "; the map there: " + (problem ? *problem : std::string("valid from both sides")) +
+         figures;
 }
 
 }  // namespace ism

@@ -10,6 +10,7 @@
 #include "refine/refine.hpp"
 
 #include <functional>
+#include <string>
 
 namespace ism {
 
@@ -62,6 +63,12 @@ struct SurfaceRefineStats {
 /// InterSurfaceMap::split_next, naming the split) when a split finds no valid
 /// place after its retries; the map is then the valid one before that split.
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
+
+/// One line (no newline) on a refinement refine_surfaces stopped with the
+/// message `what`: both sides' face counts, the reason, whether the map left
+/// is valid from both sides, its symmetric efficiency (when valid) and
+/// energy, the splits retried and placed in place.
+std::string describe_stop(const InterSurfaceMap& map, const std::string& what);
 
 /// One optimisation of every active vertex of both sides; the energy gained.
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
