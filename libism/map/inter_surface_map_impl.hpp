@@ -64,6 +64,8 @@ struct InterSurfaceMap::Chart {
     int face;
   };
   std::vector<Fragment> fragments;
+  /// The fragments whose map is not affine (where edges may bend), in order.
+  std::vector<int> curved;
 };
 
 /// A placement of the region's inner vertices of s in a chart: the vertices

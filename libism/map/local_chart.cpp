@@ -431,6 +431,9 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     const double ring_area = polygon_area(loop);
     if (!(ring_area > 0 && std::abs(covered - ring_area) <= 1e-9 * ring_area))
       return chart_fail(410);
+    chart.curved.clear();
+    for (std::size_t i = 0; i < chart.fragments.size(); ++i)
+      if (!chart.fragments[i].affine) chart.curved.push_back(int(i));
     return true;
   };
   auto relax = [&](bool fix_centre) {
@@ -687,8 +690,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       std::vector<std::pair<double, int>> kinks;
       for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
-        for (const auto& fragment : chart.fragments) {
-          if (fragment.affine || !inside_polygon(fragment.chart, mid)) continue;
+        for (const int curved : chart.curved) {
+          const Chart::Fragment& fragment = chart.fragments[curved];
+          if (!inside_polygon(fragment.chart, mid)) continue;
           // The segment's ends mapped to t; where it bends there, as the
           // options' kink rule says (paper §5.1: only where a straight
           // segment between them would leave the cell).

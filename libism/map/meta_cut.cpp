@@ -520,29 +520,21 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
   return out;
 }
 
-}  // namespace
-
-PieceTriangulation triangulate_piece(const MetaPiece& piece) {
-  PieceTriangulation out;
-  const auto& P = piece.corner[0];
-  const auto& Q = piece.corner[1];
+// The apex of the fan of the piece (corners P on side 0, Q on side 1) whose
+// worst triangle is best (relative to the piece's areas on each side), or
+// -1 if every fan has a triangle that is not positive on both sides. Fans
+// often tie (their worst triangle is an ear they share): the first such
+// apex from the corner with the smallest side-0 position on, so the winner
+// does not depend on how the corners are keyed (a meta-mesh file read back
+// numbers its edges, so its keys, anew). A triangle is its own fan (apex 0).
+int best_fan(const std::vector<Vec2>& P, const std::vector<Vec2>& Q) {
   const int n = int(P.size());
-  if (n < 3) return out;
-  out.points = {P, Q};
   // Areas from the corners themselves: the result depends on nothing else.
   const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
   auto quality = [&](int a, int b, int c) {
     return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
   };
-  if (n == 3) {
-    if (quality(0, 1, 2) > 0) out.triangles.push_back({0, 1, 2});
-    return out;
-  }
-  // The fan whose worst triangle is best (relative to the piece's areas),
-  // the first such corner from the corner with the smallest side-0
-  // position on: fans often tie (their worst triangle is an ear they
-  // share), and the winner must not depend on how the corners are keyed
-  // (a meta-mesh file read back numbers its edges, so its keys, anew).
+  if (n == 3) return quality(0, 1, 2) > 0 ? 0 : -1;
   int first = 0;
   for (int a = 1; a < n; ++a)
     if (P[a].x() < P[first].x() || (P[a].x() == P[first].x() && P[a].y() < P[first].y())) first = a;
@@ -555,11 +547,29 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece) {
       worst = std::min(worst, quality(a, (a + j) % n, (a + j + 1) % n));
     if (worst > best_quality) best_quality = worst, best = a;
   }
+  return best;
+}
+
+}  // namespace
+
+PieceTriangulation triangulate_piece(const MetaPiece& piece) {
+  PieceTriangulation out;
+  const auto& P = piece.corner[0];
+  const auto& Q = piece.corner[1];
+  const int n = int(P.size());
+  if (n < 3) return out;
+  out.points = {P, Q};
+  const int best = best_fan(P, Q);
   if (best >= 0) {
     for (int j = 1; j + 1 < n; ++j)
       out.triangles.push_back({best, (best + j) % n, (best + j + 1) % n});
     return out;
   }
+  if (n == 3) return out;
+  const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
+  auto quality = [&](int a, int b, int c) {
+    return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
+  };
   // A star around one point of the piece (on each side the centroid of the
   // polygon's kernel, the two mapped to each other): pieces with runs of
   // collinear corners on both sides, where no fan is valid.
@@ -661,6 +671,22 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
 }
 
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {
+  // The fan straight from the corners (no copy): what triangulate_piece
+  // gives whenever a fan is valid.
+  const auto& P = piece.corner[0];
+  const auto& Q = piece.corner[1];
+  const int n = int(P.size());
+  if (n >= 3) {
+    const int a = best_fan(P, Q);
+    if (a >= 0) {
+      double sum = 0;
+      for (int j = 1; j + 1 < n; ++j) {
+        const int b = (a + j) % n, c = (a + j + 1) % n;
+        sum += triangle_energy({P[a], P[b], P[c]}, {Q[a], Q[b], Q[c]}, terms, forward_weight);
+      }
+      return sum;
+    }
+  }
   const PieceTriangulation tri = triangulate_piece(piece);
   if (tri.triangles.empty()) return HUGE_VAL;
   double sum = 0;
