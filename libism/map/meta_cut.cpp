@@ -493,6 +493,7 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
     crossing.emplace(key, id);
     return id;
   };
+  std::vector<std::pair<double, int>> around;  // a cell's corners with their angles
   for (const auto& a : *tp)
     for (const auto& b : *tq) {
       std::vector<int> cell;
@@ -509,7 +510,7 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
       for (int i : cell) centre += inC[i];
       centre /= double(cell.size());
       // Round the centre (angles computed once, not per comparison).
-      std::vector<std::pair<double, int>> around;
+      around.clear();
       for (int i : cell)
         around.push_back({std::atan2(inC[i].y() - centre.y(), inC[i].x() - centre.x()), i});
       std::sort(around.begin(), around.end(),
@@ -520,6 +521,21 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
   return out;
 }
 
+// How good triangle (a, b, c) of a piece's corners is on both sides (P on
+// side 0, Q on side 1): the smaller of its two areas relative to the piece's
+// area there (from the corners themselves: the result depends on nothing
+// else); positive when it is positive on both.
+struct PieceQuality {
+  const std::vector<Vec2>& P;
+  const std::vector<Vec2>& Q;
+  double ap, aq;
+  PieceQuality(const std::vector<Vec2>& p, const std::vector<Vec2>& q)
+      : P(p), Q(q), ap(std::max(polygon_area(p), 1e-300)), aq(std::max(polygon_area(q), 1e-300)) {}
+  double operator()(int a, int b, int c) const {
+    return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
+  }
+};
+
 // The apex of the fan of the piece (corners P on side 0, Q on side 1) whose
 // worst triangle is best (relative to the piece's areas on each side), or
 // -1 if every fan has a triangle that is not positive on both sides. Fans
@@ -529,11 +545,7 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
 // numbers its edges, so its keys, anew). A triangle is its own fan (apex 0).
 int best_fan(const std::vector<Vec2>& P, const std::vector<Vec2>& Q) {
   const int n = int(P.size());
-  // Areas from the corners themselves: the result depends on nothing else.
-  const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
-  auto quality = [&](int a, int b, int c) {
-    return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
-  };
+  const PieceQuality quality(P, Q);
   if (n == 3) return quality(0, 1, 2) > 0 ? 0 : -1;
   int first = 0;
   for (int a = 1; a < n; ++a)
@@ -566,10 +578,8 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece) {
     return out;
   }
   if (n == 3) return out;
-  const double ap = std::max(polygon_area(P), 1e-300), aq = std::max(polygon_area(Q), 1e-300);
-  auto quality = [&](int a, int b, int c) {
-    return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
-  };
+  const PieceQuality quality(P, Q);
+  const double ap = quality.ap, aq = quality.aq;
   // A star around one point of the piece (on each side the centroid of the
   // polygon's kernel, the two mapped to each other): pieces with runs of
   // collinear corners on both sides, where no fan is valid.

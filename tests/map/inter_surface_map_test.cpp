@@ -561,11 +561,8 @@ TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
 // Known limitation, run with --gtest_also_run_disabled_tests: the genus-2
 // pair stops at M² split 1390 (no valid placement of the new vertex after 3
 // retries: every candidate needs a crossing too close to a break point, and
-// the split in place folds a piece; ~6 min). It stopped at split 68 in
-// November, at 205 before the split in place chose its direction in the
-// wedge, and at 968 before kinks had to keep clear of break points. The
-// example's runs of this genus: docs/results-two-surfaces.md.
-
+// the split in place folds a piece; ~6 min). Its history and the example's
+// runs of this genus: docs/results-two-surfaces.md.
 TEST(InterSurfaceMap, DISABLED_BothSidesRefineGenusTwo) {
   ISM_REQUIRE_SHARED_MODELS();
   const TriangleMesh a = shapes::double_torus(300), b = decimated_model("double_torus.obj", 150);
