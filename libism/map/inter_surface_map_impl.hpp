@@ -4,6 +4,7 @@
 #include "map/inter_surface_map.hpp"
 
 #include <map>
+#include <unordered_map>
 
 namespace ism {
 
@@ -62,8 +63,18 @@ struct InterSurfaceMap::Chart {
   /// and bending edges across them), each in t's face `face`.
   struct Fragment : ChartCell {
     int face;
+    std::vector<int> nodes;  // its anchors, counter-clockwise
+    Vec2 inside;             // a point inside it
+    /// A triangle of t's content inside the ring, off its edges: its
+    /// stretch sums with others in the same face of s (StretchMoments).
+    bool summable = false;
+    StretchMoments moments;
   };
   std::vector<Fragment> fragments;
+  /// Per chord: the fragments on its two sides (-1 where none).
+  std::vector<std::array<int, 2>> chord_fragments;
+  /// Chord of a pair of anchors (undirected_edge_key).
+  std::unordered_map<std::uint64_t, int> chord_of;
   /// The fragments whose map is not affine (where edges may bend), in order.
   std::vector<int> curved;
 };

@@ -4,6 +4,7 @@
 #include "map/chart_cell.hpp"
 #include "map/inter_surface_map.hpp"
 #include "map/inter_surface_map_impl.hpp"
+#include "map/overlay.hpp"      // clip_to_triangle
 #include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
 
 #include <Eigen/LU>
@@ -24,6 +25,24 @@ using Layout3 = std::array<Vec2, 3>;
 Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
   b = b.cwiseMax(1e-12);
   return b / b.sum();
+}
+
+/// A point inside a simple counter-clockwise polygon (corners pos[cell[i]]):
+/// the centroid of one of its ears; nothing if it has none.
+std::optional<Vec2> ear_point(const std::vector<Vec2>& pos, const std::vector<int>& cell) {
+  const std::size_t n = cell.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 &a = pos[cell[(i + n - 1) % n]], &b = pos[cell[i]], &c = pos[cell[(i + 1) % n]];
+    if (!(orient(a, b, c) > 0)) continue;
+    bool ear = true;
+    for (std::size_t j = 0; j < n && ear; ++j) {
+      if (j == i || j == (i + 1) % n || j == (i + n - 1) % n) continue;
+      const Vec2& p = pos[cell[j]];
+      if (orient(a, b, p) > 0 && orient(b, c, p) > 0 && orient(c, a, p) > 0) ear = false;
+    }
+    if (ear) return (a + b + c) / 3;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -421,7 +440,31 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       auto made = make_chart_cell(std::move(in_chart), std::move(fragment.other));
       if (!made) return chart_fail(403);
       static_cast<ChartCell&>(fragment) = std::move(*made);
+      const auto inside = ear_point(position, cell);
+      if (!inside) return chart_fail(404);
+      fragment.inside = *inside;
+      fragment.nodes = cell;
+      fragment.summable = cell.size() == 3 && fragment.affine;
+      for (int c : cell) fragment.summable &= chart.anchors[c].node.place[s].kind != Place::edge;
+      if (fragment.summable)
+        fragment.summable =
+            fragment.moments.add({fragment.chart[0], fragment.chart[1], fragment.chart[2]},
+                                 {fragment.other[0], fragment.other[1], fragment.other[2]});
       chart.fragments.push_back(std::move(fragment));
+    }
+    chart.chord_of.clear();
+    for (std::size_t c = 0; c < chart.chords.size(); ++c)
+      chart.chord_of[undirected_edge_key(chart.chords[c].a, chart.chords[c].b)] = int(c);
+    chart.chord_fragments.assign(chart.chords.size(), {-1, -1});
+    for (std::size_t j = 0; j < chart.fragments.size(); ++j) {
+      const auto& nodes = chart.fragments[j].nodes;
+      for (std::size_t k = 0; k < nodes.size(); ++k) {
+        const auto it =
+            chart.chord_of.find(undirected_edge_key(nodes[k], nodes[(k + 1) % nodes.size()]));
+        if (it == chart.chord_of.end()) continue;
+        auto& sides = chart.chord_fragments[it->second];
+        sides[sides[0] < 0 ? 0 : 1] = int(j);
+      }
     }
     // The cells must tile the ring (no chord crossing another or the ring).
     std::vector<Vec2> loop;
@@ -598,6 +641,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   std::vector<Place> place(A);
   for (std::size_t i = 0; i < A; ++i) place[i] = chart.anchors[i].node.place[t];
   place.resize(pos.size());
+  std::vector<int> inner_fragment(layout.inner.size(), -1);
   for (std::size_t k = 0; k < layout.inner.size(); ++k) {
     if (layout.inner[k].on_anchor >= 0) continue;
     const Vec2& p = layout.inner[k].pos;
@@ -607,10 +651,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       face = chart.single_face;
       q = p;
     } else {
-      for (const auto& fragment : chart.fragments)
-        if (inside_polygon(fragment.chart, p)) {
-          face = fragment.face;
-          q = cell_image(fragment, p);
+      for (std::size_t j = 0; j < chart.fragments.size(); ++j)
+        if (inside_polygon(chart.fragments[j].chart, p)) {
+          face = chart.fragments[j].face;
+          q = cell_image(chart.fragments[j], p);
+          inner_fragment[k] = int(j);
           break;
         }
     }
@@ -631,7 +676,6 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   std::vector<std::vector<Hit>> spoke_hits(layout.spokes.size());
   std::vector<std::vector<std::pair<double, int>>> chord_hits(chart.chords.size());
   std::vector<char> chord_used(chart.chords.size(), 1);
-  std::vector<std::array<int, 2>> segments;
   std::vector<double> spoke_param;  // per new node: parameter along its spoke's edge
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     const int na = node_of(layout.spokes[i].a), nb = node_of(layout.spokes[i].b);
@@ -676,6 +720,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // edge follows the cell's triangulation and bends at its diagonals).
   std::vector<std::vector<std::pair<double, int>>> spoke_chain(layout.spokes.size());
   std::vector<char> is_kink;
+  std::vector<std::pair<int, int>> kink_fragment;  // kink node, the fragment it bends in
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     auto& hits = spoke_hits[i];
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.u < b.u; });
@@ -713,6 +758,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             if ((a && (kink.other - *a).norm() < layout.clearance * size) ||
                 (b && (kink.other - *b).norm() < layout.clearance * size))
               return eval_fail(98);
+            kink_fragment.push_back({node, curved});
             pos.push_back(kink.chart);
             place.push_back({Place::face, fragment.face, 0, clamp_bary(bary)});
             kinks.push_back({(kink.chart - P).dot(Q - P) / (Q - P).squaredNorm(), node});
@@ -737,9 +783,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     for (const auto& [u, node] : spoke_chain[i])
       if (node >= int(A + layout.inner.size()) && place[node].kind == Place::face)
         is_kink[node] = 1;
-  const std::size_t nb = chart.boundary_loop.size();
-  for (std::size_t i = 0; i < nb; ++i)
-    segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
+  std::vector<std::array<int, 2>> spoke_segments;
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     const int e = layout.spokes[i].edge;
     const int first_vertex = layout.spokes[i].a >= 0 ? chart.ring[layout.spokes[i].a]
@@ -750,36 +794,28 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       if (j > 0 && j + 1 < chain.size())
         s_place[chain[j].second] = {Place::edge, e, forward ? chain[j].first : 1 - chain[j].first,
                                     Eigen::Vector3d::Zero()};
-      if (j > 0) segments.push_back({chain[j - 1].second, chain[j].second});
+      if (j > 0) spoke_segments.push_back({chain[j - 1].second, chain[j].second});
     }
   }
-  for (std::size_t c = 0; c < chart.chords.size(); ++c) {
-    if (!chord_used[c]) continue;
-    auto& hits = chord_hits[c];
-    std::sort(hits.begin(), hits.end());
+  for (auto& hits : chord_hits) std::sort(hits.begin(), hits.end());
+  // The pieces of a side of a fragment or of the ring between two anchors:
+  // a chord's split at its new crossings.
+  auto add_side = [&](int a, int b, std::vector<std::array<int, 2>>& out_segments) {
+    const auto it = chart.chord_of.find(undirected_edge_key(a, b));
+    if (it == chart.chord_of.end()) {
+      out_segments.push_back({a, b});
+      return;
+    }
+    const int c = it->second;
+    if (!chord_used[c]) return;  // an inner edge runs along it
     int previous = chart.chords[c].a;
-    for (const auto& [lambda, node] : hits) {
-      segments.push_back({previous, node});
+    for (const auto& [lambda, node] : chord_hits[c]) {
+      out_segments.push_back({previous, node});
       previous = node;
     }
-    segments.push_back({previous, chart.chords[c].b});
-  }
+    out_segments.push_back({previous, chart.chords[c].b});
+  };
 
-  const auto cells = planar_cells(pos, segments);
-  if (!cells) return eval_fail(134);
-  {
-    double covered = 0, ring_area = 0;
-    std::vector<Vec2> corners;
-    for (const auto& cell : *cells) {
-      corners.clear();
-      for (int c : cell) corners.push_back(pos[c]);
-      covered += polygon_area(corners);
-    }
-    corners.clear();
-    for (int a : chart.boundary_loop) corners.push_back(pos[a]);
-    ring_area = polygon_area(corners);
-    if (!(std::abs(covered - ring_area) <= 1e-9 * ring_area)) return eval_fail(300);  // not planar
-  }
   // The face of s each triangle of the layout is, for locating cells.
   std::vector<std::array<Vec2, 3>> tri_chart, tri_layout;
   for (const auto& tri : layout.tris) {
@@ -800,28 +836,17 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     }
     return best;
   };
-  double sum = 0;
+  // The energy of one cell (its points counter-clockwise, a point inside
+  // it, and t's face holding it with its corners there when known);
+  // HUGE_VAL if it cannot be placed.
   std::vector<int> common, faces;
-  for (const auto& cell : *cells) {
-    // A point inside the cell: the centroid of an ear.
+  MetaPiece piece;
+  auto cell_energy = [&](const std::vector<int>& cell, const Vec2& inside, int known_face,
+                         const std::vector<Vec2>* known_corners) {
     const std::size_t n = cell.size();
-    Vec2 inside = Vec2::Zero();
-    bool found = false;
-    for (std::size_t i = 0; i < n && !found; ++i) {
-      const Vec2 &a = pos[cell[(i + n - 1) % n]], &b = pos[cell[i]], &c = pos[cell[(i + 1) % n]];
-      if (!(orient(a, b, c) > 0)) continue;
-      bool ear = true;
-      for (std::size_t j = 0; j < n && ear; ++j) {
-        if (j == i || j == (i + 1) % n || j == (i + n - 1) % n) continue;
-        const Vec2& p = pos[cell[j]];
-        if (orient(a, b, p) > 0 && orient(b, c, p) > 0 && orient(c, a, p) > 0) ear = false;
-      }
-      if (ear) inside = (a + b + c) / 3, found = true;
-    }
-    if (!found) return eval_fail(169);
     const int ti = tri_of(inside);
     if (ti < 0) return eval_fail(171);
-    MetaPiece piece;
+    piece.corner[s].clear();
     const auto& tc = tri_chart[ti];
     const auto& tl = tri_layout[ti];
     for (int c : cell) {
@@ -839,40 +864,209 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     }
     piece.face[s] = layout.tris[ti].face;
     piece.area[s] = polygon_area(piece.corner[s]);
-    if (!(piece.area[s] > 0)) {
-      return eval_fail(181);
-    }
-    // The face of t holding it.
-    place_faces(meta_, index_, t, place[cell[0]], common);
-    for (std::size_t i = 1; i < n && common.size() > 1; ++i) {
-      place_faces(meta_, index_, t, place[cell[i]], faces);
-      std::erase_if(common,
-                    [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
-    }
-    int h_found = -1;
-    for (int h : common) {
-      std::vector<Vec2> other;
-      for (int c : cell) {
-        const auto p = place_in_face(meta_, t, h, place[c]);
-        if (!p) break;
-        other.push_back(*p);
+    if (!(piece.area[s] > 0)) return eval_fail(181);
+    if (known_corners) {
+      piece.face[t] = known_face;
+      piece.corner[t] = *known_corners;
+      piece.area[t] = polygon_area(piece.corner[t]);
+    } else {
+      // The face of t holding it.
+      place_faces(meta_, index_, t, place[cell[0]], common);
+      for (std::size_t i = 1; i < n && common.size() > 1; ++i) {
+        place_faces(meta_, index_, t, place[cell[i]], faces);
+        std::erase_if(
+            common, [&](int h) { return std::find(faces.begin(), faces.end(), h) == faces.end(); });
       }
-      if (other.size() != n) continue;
-      const double a = polygon_area(other);
-      if (!(a > 0)) continue;
-      h_found = h;
-      piece.face[t] = h;
-      piece.corner[t] = std::move(other);
-      piece.area[t] = a;
-      break;
+      int h_found = -1;
+      for (int h : common) {
+        std::vector<Vec2> other;
+        for (int c : cell) {
+          const auto p = place_in_face(meta_, t, h, place[c]);
+          if (!p) break;
+          other.push_back(*p);
+        }
+        if (other.size() != n) continue;
+        const double a = polygon_area(other);
+        if (!(a > 0)) continue;
+        h_found = h;
+        piece.face[t] = h;
+        piece.corner[t] = std::move(other);
+        piece.area[t] = a;
+        break;
+      }
+      if (h_found < 0) return eval_fail(205);
     }
-    if (h_found < 0) {
-      return eval_fail(205);
+    const double e = piece_energy(piece, terms);
+    return e < HUGE_VAL ? e : eval_fail(207);
+  };
+  auto cells_energy = [&](const std::vector<std::vector<int>>& cells) {
+    double total = 0;
+    for (const auto& cell : cells) {
+      const auto inside = ear_point(pos, cell);
+      if (!inside) return eval_fail(169);
+      total += cell_energy(cell, *inside, -1, nullptr);
+      if (!(total < HUGE_VAL)) return HUGE_VAL;
     }
-    sum += piece_energy(piece, terms);
-    if (!(sum < HUGE_VAL)) {
-      return eval_fail(207);
+    return total;
+  };
+
+  // Only the fragments of t's content that the inner edges run through are
+  // cut into cells; the others are cells as they are. (The cells of the
+  // whole ring, below, when that does not apply.)
+  double sum = HUGE_VAL;
+  bool summed = false;
+  if (chart.kind == Chart::general && chart.fragments.size() >= 24) {
+    const std::size_t F = chart.fragments.size();
+    std::vector<char> cut(F, 0);
+    std::size_t n_cut = 0;
+    auto mark = [&](int f) {
+      if (f >= 0 && !cut[f]) cut[f] = 1, ++n_cut;
+    };
+    std::vector<int> node_chord(pos.size(), -1), node_fragment(pos.size(), -1);
+    for (const auto& hits : spoke_hits)
+      for (const Hit& h : hits) node_chord[h.node] = h.chord;
+    for (const auto& [node, f] : kink_fragment) node_fragment[node] = f;
+    for (std::size_t k = 0; k < layout.inner.size(); ++k)
+      if (layout.inner[k].on_anchor < 0) node_fragment[inner_node[k]] = inner_fragment[k];
+    for (std::size_t c = 0; c < chart.chords.size(); ++c)
+      if (!chord_used[c]) mark(chart.chord_fragments[c][0]), mark(chart.chord_fragments[c][1]);
+    bool located = true;
+    std::vector<int> segment_fragment(spoke_segments.size(), -1);  // -2: along a chord
+    for (std::size_t k = 0; k < spoke_segments.size() && located; ++k) {
+      const auto [a, b] = spoke_segments[k];
+      const auto it = chart.chord_of.find(undirected_edge_key(a, b));
+      if (it != chart.chord_of.end() && !chord_used[it->second]) {
+        segment_fragment[k] = -2;
+        continue;
+      }
+      const Vec2 mid = 0.5 * (pos[a] + pos[b]);
+      int found = -1;
+      for (int node : {a, b}) {
+        if (node_fragment[node] >= 0 && found < 0 &&
+            inside_polygon(chart.fragments[node_fragment[node]].chart, mid))
+          found = node_fragment[node];
+        if (node_chord[node] >= 0)
+          for (int f : chart.chord_fragments[node_chord[node]])
+            if (f >= 0 && found < 0 && inside_polygon(chart.fragments[f].chart, mid)) found = f;
+      }
+      for (std::size_t f = 0; f < F && found < 0; ++f)
+        if (inside_polygon(chart.fragments[f].chart, mid)) found = int(f);
+      if (found < 0) located = false;
+      segment_fragment[k] = found;
+      mark(found);
     }
+    if (located && 2 * n_cut <= F) {  // (small charts: the whole ring)
+      // The triangles of t inside the ring: their stretch summed per face
+      // of s (one affine map of the chart to s each), a cut one shared by
+      // the areas of its parts. The other cut fragments: their cells.
+      std::vector<StretchMoments> per_tri(tri_chart.size());
+      auto sector_of = [&](const Vec2& q) {
+        for (std::size_t i = 0; i < tri_chart.size(); ++i) {
+          const auto& c = tri_chart[i];
+          if (orient(c[0], c[1], q) > 0 && orient(c[1], c[2], q) > 0 && orient(c[2], c[0], q) > 0)
+            return int(i);
+        }
+        return tri_of(q);
+      };
+      std::vector<double> part(tri_chart.size());
+      std::vector<int> split;
+      sum = 0;
+      for (std::size_t f = 0; f < F && sum < HUGE_VAL; ++f) {
+        const auto& fragment = chart.fragments[f];
+        if (fragment.summable && !cut[f]) {
+          const int ti = sector_of(fragment.inside);
+          if (ti < 0) return eval_fail(171);
+          per_tri[ti].add(fragment.moments);
+        } else if (fragment.summable) {
+          double covered = 0;
+          for (std::size_t i = 0; i < tri_chart.size(); ++i)
+            covered += part[i] = polygon_area(clip_to_triangle(fragment.chart, tri_chart[i]));
+          if (!(std::abs(covered - fragment.moments.area) <= 1e-9 * fragment.moments.area)) {
+            split.push_back(int(f));
+            continue;
+          }
+          for (std::size_t i = 0; i < tri_chart.size(); ++i)
+            if (part[i] > 0) per_tri[i].add(fragment.moments, part[i] / fragment.moments.area);
+        } else if (!cut[f]) {
+          sum += cell_energy(fragment.nodes, fragment.inside, fragment.face, &fragment.other);
+        } else {
+          split.push_back(int(f));
+        }
+      }
+      if (!(sum < HUGE_VAL)) return HUGE_VAL;
+      const double w_forward = terms.area0 / (terms.area1 * terms.area1),
+                   w_backward = terms.inverse_weight * terms.area1 / (terms.area0 * terms.area0);
+      for (std::size_t i = 0; i < per_tri.size(); ++i) {
+        if (!(per_tri[i].area > 0)) continue;
+        const auto& c = tri_chart[i];
+        const auto& l = tri_layout[i];
+        Eigen::Matrix2d C, D;
+        C << c[1] - c[0], c[2] - c[0];
+        D << l[1] - l[0], l[2] - l[0];
+        const auto [x, y] = per_tri[i].evaluate(D * C.inverse());
+        if (!(x < HUGE_VAL)) return eval_fail(182);
+        sum += s == 0 ? w_forward * x + w_backward * y : w_forward * y + w_backward * x;
+      }
+      // Each fragment to cut: its sides (split at the new crossings) and the
+      // pieces of inner edges in it, cut into cells.
+      summed = true;
+      std::vector<std::array<int, 2>> segments;
+      std::vector<Vec2> corners;
+      for (const int f : split) {
+        const auto& fragment = chart.fragments[f];
+        segments.clear();
+        for (std::size_t k = 0; k < spoke_segments.size(); ++k) {
+          const int g = segment_fragment[k];
+          if (g == f) segments.push_back(spoke_segments[k]);
+          if (g == -2) {
+            const auto& sides = chart.chord_fragments[chart.chord_of.at(
+                undirected_edge_key(spoke_segments[k][0], spoke_segments[k][1]))];
+            if (sides[0] == f || sides[1] == f) segments.push_back(spoke_segments[k]);
+          }
+        }
+        const auto& nodes = fragment.nodes;
+        for (std::size_t k = 0; k < nodes.size(); ++k)
+          add_side(nodes[k], nodes[(k + 1) % nodes.size()], segments);
+        const auto cells = planar_cells(pos, segments);
+        double covered = 0;
+        if (cells)
+          for (const auto& cell : *cells) {
+            corners.clear();
+            for (int c : cell) corners.push_back(pos[c]);
+            covered += polygon_area(corners);
+          }
+        const double area = polygon_area(fragment.chart);
+        if (!cells || !(std::abs(covered - area) <= 1e-9 * area)) {
+          summed = false;  // the whole ring, below
+          break;
+        }
+        sum += cells_energy(*cells);
+        if (!(sum < HUGE_VAL)) return HUGE_VAL;
+      }
+    }
+  }
+  if (!summed) {
+    std::vector<std::array<int, 2>> segments = spoke_segments;
+    const std::size_t nb = chart.boundary_loop.size();
+    for (std::size_t i = 0; i < nb; ++i)
+      segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
+    for (std::size_t c = 0; c < chart.chords.size(); ++c)
+      add_side(chart.chords[c].a, chart.chords[c].b, segments);
+    const auto cells = planar_cells(pos, segments);
+    if (!cells) return eval_fail(134);
+    double covered = 0, ring_area = 0;
+    std::vector<Vec2> corners;
+    for (const auto& cell : *cells) {
+      corners.clear();
+      for (int c : cell) corners.push_back(pos[c]);
+      covered += polygon_area(corners);
+    }
+    corners.clear();
+    for (int a : chart.boundary_loop) corners.push_back(pos[a]);
+    ring_area = polygon_area(corners);
+    if (!(std::abs(covered - ring_area) <= 1e-9 * ring_area)) return eval_fail(300);  // not planar
+    sum = cells_energy(*cells);
+    if (!(sum < HUGE_VAL)) return HUGE_VAL;
   }
   if (!out) return sum;
 

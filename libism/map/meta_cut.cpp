@@ -671,6 +671,37 @@ StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::arr
   return {area_m * 0.5 * frob, area_d * 0.5 * frob / (det * det), area_d, area_m};
 }
 
+bool StretchMoments::add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>& b) {
+  Eigen::Matrix2d C, D;
+  C << c[1] - c[0], c[2] - c[0];
+  D << b[1] - b[0], b[2] - b[0];
+  const double det_c = C.determinant(), det_d = D.determinant();
+  if (!(det_c > 0) || !(det_d > 0)) return false;
+  const Eigen::Matrix2d B = D * C.inverse(), Bi = C * D.inverse();
+  const double area_c = 0.5 * det_c, det_b = det_d / det_c;
+  const Eigen::Matrix2d BtB = B.transpose() * B, BiBit = Bi * Bi.transpose();
+  area += area_c;
+  m[0] += area_c * det_b * BtB(0, 0), m[1] += area_c * det_b * BtB(0, 1);
+  m[2] += area_c * det_b * BtB(1, 1);
+  n[0] += area_c * BiBit(0, 0), n[1] += area_c * BiBit(0, 1), n[2] += area_c * BiBit(1, 1);
+  return true;
+}
+
+void StretchMoments::add(const StretchMoments& other, double share) {
+  area += share * other.area;
+  for (int k = 0; k < 3; ++k) m[k] += share * other.m[k], n[k] += share * other.n[k];
+}
+
+std::array<double, 2> StretchMoments::evaluate(const Eigen::Matrix2d& A) const {
+  // X = ½ tr(M (AᵀA)⁻¹), Y = ½ det A · tr(AᵀA N).
+  const Eigen::Matrix2d G = A.transpose() * A;
+  const double det_g = G.determinant(), det_a = A.determinant();
+  if (!(det_a > 0) || !(det_g > 0)) return {HUGE_VAL, HUGE_VAL};
+  const double x = (m[0] * G(1, 1) - 2 * m[1] * G(0, 1) + m[2] * G(0, 0)) / det_g;
+  const double y = n[0] * G(0, 0) + 2 * n[1] * G(0, 1) + n[2] * G(1, 1);
+  return {0.5 * x, 0.5 * det_a * y};
+}
+
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);

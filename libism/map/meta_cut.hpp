@@ -142,6 +142,25 @@ struct StretchTerms {
 };
 StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q);
 
+/// The stretch terms of many triangles that one common affine map A takes
+/// from a plane (a chart) to one side, each with its own affine map B from
+/// the chart to the other side (`add`: its corners c in the chart and B·c
+/// on the other side, both counter-clockwise); `evaluate` gives, for any A
+/// of positive determinant, the sums {X, Y} of X = area_B·σ²(A-side ->
+/// B-side) and Y = area_A·σ²(B-side -> A-side) over them: the terms of
+/// triangle_stretch_terms of the triangles (A·c, B·c), summed, up to
+/// rounding. With the A-side as side 0, forward = X, backward = Y.
+struct StretchMoments {
+  double area = 0;   // in the chart
+  double m[3] = {};  // Σ area_c·det B·BᵀB (symmetric: xx, xy, yy)
+  double n[3] = {};  // Σ area_c·B⁻¹B⁻ᵀ
+  /// False (nothing added) if either triangle is not positive.
+  bool add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>& b);
+  /// Adds another's sums, scaled by `share` (a part of its triangles).
+  void add(const StretchMoments& other, double share = 1);
+  std::array<double, 2> evaluate(const Eigen::Matrix2d& A) const;
+};
+
 /// Energy of one affine triangle: corners p on side 0, q on side 1 (both
 /// counter-clockwise); HUGE_VAL if either is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,

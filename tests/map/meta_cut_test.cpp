@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
 #include <vector>
 
 namespace ism {
@@ -148,4 +149,52 @@ TEST(TriangulatePiece, PolygonThatIsNotSimpleHasNone) {
 }
 
 }  // namespace
+
+// StretchMoments: triangles sharing one affine map A of the chart to side
+// 0, each with its own map to side 1, give the same sums as
+// triangle_stretch_terms of each triangle (A·c, B·c), for any A; a share
+// of a triangle's moments is that share of its terms.
+TEST(StretchMoments, SumsTheStretchTermsOfItsTriangles) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto random_triangle = [&] {
+    std::array<Vec2, 3> t;
+    do {
+      for (auto& p : t) p = Vec2(u(rng), u(rng));
+    } while (!(orient(t[0], t[1], t[2]) > 0.05));
+    return t;
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    StretchMoments moments;
+    std::vector<std::array<Vec2, 3>> chart, other;
+    for (int k = 0; k < 5; ++k) {
+      chart.push_back(random_triangle());
+      other.push_back(random_triangle());
+      ASSERT_TRUE(moments.add(chart.back(), other.back()));
+    }
+    Eigen::Matrix2d A;
+    do {
+      A << u(rng), u(rng), u(rng), u(rng);
+    } while (!(A.determinant() > 0.1));
+    const Vec2 shift(u(rng), u(rng));
+    double forward = 0, backward = 0;
+    for (std::size_t k = 0; k < chart.size(); ++k) {
+      std::array<Vec2, 3> side0;
+      for (int j = 0; j < 3; ++j) side0[j] = A * chart[k][j] + shift;
+      const StretchTerms t = triangle_stretch_terms(side0, other[k]);
+      forward += t.forward, backward += t.backward;
+    }
+    const auto [x, y] = moments.evaluate(A);
+    EXPECT_NEAR(x, forward, 1e-9 * forward);
+    EXPECT_NEAR(y, backward, 1e-9 * backward);
+    StretchMoments part;
+    part.add(moments, 0.25);
+    EXPECT_NEAR(part.evaluate(A)[0], 0.25 * forward, 1e-9 * forward);
+  }
+  StretchMoments none;
+  EXPECT_FALSE(
+      none.add({Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}, {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)}));
+  EXPECT_EQ(none.area, 0);
+}
+
 }  // namespace ism
