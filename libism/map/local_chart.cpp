@@ -8,6 +8,7 @@
 #include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
 
 #include <Eigen/LU>
+#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
@@ -489,13 +490,17 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     for (std::size_t k = 0; k < chart.interior.size(); ++k)
       if (!fix_centre || chart.interior[k] != chart.centre_anchor) slot[chart.interior[k]] = int(k);
     std::vector<std::vector<std::pair<int, double>>> weights(chart.interior.size());
+    std::vector<std::vector<int>> chords_at(chart.anchors.size());
+    for (std::size_t c = 0; c < chart.chords.size(); ++c)
+      for (int end : {chart.chords[c].a, chart.chords[c].b})
+        if (slot[end] >= 0 || end == chart.centre_anchor) chords_at[end].push_back(int(c));
     for (std::size_t k = 0; k < chart.interior.size(); ++k) {
       const int xa = chart.interior[k];
       const int x = chart.anchors[xa].node.place[t].index;
       std::vector<std::pair<double, std::pair<int, double>>> spokes;  // angle, (anchor, length)
       const auto angles = vertex_edge_angles(t, x);
-      for (const auto& c : chart.chords) {
-        if (c.a != xa && c.b != xa) continue;
+      for (const int ci : chords_at[xa]) {
+        const auto& c = chart.chords[ci];
         const int other = c.a == xa ? c.b : c.a;
         const auto it = angles.find(c.edge);
         if (it == angles.end()) continue;
@@ -518,27 +523,32 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         weights[k].push_back({spokes[j].second.first, std::max(w, 1e-12)});
       }
     }
-    // Each inner vertex at the weighted mean of its neighbours: one linear
-    // system (a Tutte embedding when the boundary is convex).
+    // Each inner vertex at the weighted mean of its neighbours: one sparse
+    // linear system (a Tutte embedding when the boundary is convex; a
+    // cone's chart holds half the surface).
     const int ni = int(chart.interior.size());
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(ni, ni);
+    std::vector<Eigen::Triplet<double>> entries;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ni, 2);
     for (int k = 0; k < ni; ++k) {
       if (weights[k].empty() || (fix_centre && chart.interior[k] == chart.centre_anchor)) {
-        M(k, k) = 1;
+        entries.push_back({k, k, 1.0});
         rhs.row(k) = chart.anchors[chart.interior[k]].pos.transpose();
         continue;
       }
       for (const auto& [a, w] : weights[k]) {
-        M(k, k) += w;
+        entries.push_back({k, k, w});
         if (slot[a] >= 0)
-          M(k, slot[a]) -= w;
+          entries.push_back({k, slot[a], -w});
         else
           rhs.row(k) += w * chart.anchors[a].pos.transpose();
       }
     }
-    const Eigen::MatrixXd x = M.partialPivLu().solve(rhs);
-    if (!x.allFinite()) return;
+    Eigen::SparseMatrix<double> M(ni, ni);
+    M.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(M);
+    if (lu.info() != Eigen::Success) return;
+    const Eigen::MatrixXd x = lu.solve(rhs);
+    if (lu.info() != Eigen::Success || !x.allFinite()) return;
     for (int k = 0; k < ni; ++k) chart.anchors[chart.interior[k]].pos = x.row(k).transpose();
   };
   bool laid_out = make_fragments();
