@@ -117,8 +117,9 @@ class InterSurfaceMap {
   /// than kSplitEnergyCap-fold or come nearer to the other side's vertices
   /// and edges than moves may (a nearly degenerate piece), is undone (the
   /// map exactly as before), the other side's vertices in and on the ring,
-  /// the split vertex and its neighbours are optimised, and the split tried
-  /// again, the last time accepting any valid place; after kSplitRetries
+  /// the split vertex and its neighbours are optimised (retry r: its rings
+  /// out to r + 1 edges away), and the split tried again, the last time
+  /// accepting any valid place; after kSplitRetries
   /// such rounds it throws std::runtime_error, the map still valid at the
   /// split before.
   int split_next(int side);

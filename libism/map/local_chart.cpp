@@ -1607,14 +1607,26 @@ int InterSurfaceMap::split_next(int s) {
           " retries (chart " + std::to_string(chart_failure_) + "; in place: " + last_refusal_ +
           ")");
     // The map is as before the split. Move what makes vt's ring hard to
-    // chart: the other side's vertices inside or on the ring, then vt and
-    // its neighbours (each move kept only if valid and lower in energy),
-    // and try again.
+    // chart: the other side's vertices inside or on the rings around vt,
+    // then vt and the vertices of those rings (each move kept only if
+    // valid and lower in energy), and try again; each retry one ring
+    // wider (a sliver wedge may need room from further out).
     ++stats_.split_retries;
-    std::vector<int> mine = neighbours(s, sp.vt);
-    mine.push_back(sp.vt);
-    for (int x : others_in_ring(s, sp.vt))
+    std::vector<int> mine{sp.vt};
+    std::size_t centres = 1;  // mine[0..centres): the vertices whose rings are searched
+    for (int radius = 0; radius <= attempt; ++radius) {
+      centres = mine.size();
+      for (std::size_t i = 0; i < centres; ++i)
+        for (int w : neighbours(s, mine[i]))
+          if (std::find(mine.begin(), mine.end(), w) == mine.end()) mine.push_back(w);
+    }
+    std::vector<int> theirs;
+    for (std::size_t i = 0; i < centres; ++i)
+      for (int x : others_in_ring(s, mine[i]))
+        if (std::find(theirs.begin(), theirs.end(), x) == theirs.end()) theirs.push_back(x);
+    for (int x : theirs)
       if (is_active(1 - s, x)) optimize_vertex(1 - s, x);
+    std::rotate(mine.begin(), mine.begin() + 1, mine.end());  // vt last
     for (int v : mine)
       if (is_active(s, v)) optimize_vertex(s, v);
   }
