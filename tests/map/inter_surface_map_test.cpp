@@ -555,12 +555,12 @@ TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
   EXPECT_FALSE(map.validate());
   EXPECT_EQ(map.n_faces(0), replay(pa).n_faces());
   EXPECT_EQ(map.n_faces(1), replay(pb).n_faces());
-  // Measured 0.268 (0.294 before 1bab307: the path swings with rounding).
+  // Measured 0.271 (0.294 at stop 33): the path swings with rounding.
   EXPECT_GT(m.symmetric_efficiency, 0.25);
 }
 
 // Known limitation, run with --gtest_also_run_disabled_tests: the genus-2
-// pair stops at M² split 1406 (no valid placement of the new vertex after 3
+// pair stops at an M² split past 1400 (no valid placement of the new vertex after 3
 // retries: every candidate needs a crossing too close to a break point, and
 // the split in place folds a piece; ~6 min). Its history and the example's
 // runs of this genus: docs/results-two-surfaces.md.
