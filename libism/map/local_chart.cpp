@@ -492,8 +492,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     std::vector<std::vector<std::pair<int, double>>> weights(chart.interior.size());
     std::vector<std::vector<int>> chords_at(chart.anchors.size());
     for (std::size_t c = 0; c < chart.chords.size(); ++c)
-      for (int end : {chart.chords[c].a, chart.chords[c].b})
-        if (slot[end] >= 0 || end == chart.centre_anchor) chords_at[end].push_back(int(c));
+      for (int end : {chart.chords[c].a, chart.chords[c].b}) chords_at[end].push_back(int(c));
     for (std::size_t k = 0; k < chart.interior.size(); ++k) {
       const int xa = chart.interior[k];
       const int x = chart.anchors[xa].node.place[t].index;
@@ -909,6 +908,16 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const double e = piece_energy(piece, terms);
     return e < HUGE_VAL ? e : eval_fail(207);
   };
+  auto cells_area = [&](const std::vector<std::vector<int>>& cells) {
+    double covered = 0;
+    std::vector<Vec2> corners;
+    for (const auto& cell : cells) {
+      corners.clear();
+      for (int c : cell) corners.push_back(pos[c]);
+      covered += polygon_area(corners);
+    }
+    return covered;
+  };
   auto cells_energy = [&](const std::vector<std::vector<int>>& cells) {
     double total = 0;
     for (const auto& cell : cells) {
@@ -941,12 +950,14 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     for (std::size_t c = 0; c < chart.chords.size(); ++c)
       if (!chord_used[c]) mark(chart.chord_fragments[c][0]), mark(chart.chord_fragments[c][1]);
     bool located = true;
-    std::vector<int> segment_fragment(spoke_segments.size(), -1);  // -2: along a chord
+    // Each piece of an inner edge: the fragment it runs through, or -2 - c
+    // when it runs along chord c (between two fragments).
+    std::vector<int> segment_fragment(spoke_segments.size(), -1);
     for (std::size_t k = 0; k < spoke_segments.size() && located; ++k) {
       const auto [a, b] = spoke_segments[k];
       const auto it = chart.chord_of.find(undirected_edge_key(a, b));
       if (it != chart.chord_of.end() && !chord_used[it->second]) {
-        segment_fragment[k] = -2;
+        segment_fragment[k] = -2 - it->second;
         continue;
       }
       const Vec2 mid = 0.5 * (pos[a] + pos[b]);
@@ -1008,12 +1019,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
                    w_backward = terms.inverse_weight * terms.area1 / (terms.area0 * terms.area0);
       for (std::size_t i = 0; i < per_tri.size(); ++i) {
         if (!(per_tri[i].area > 0)) continue;
-        const auto& c = tri_chart[i];
-        const auto& l = tri_layout[i];
-        Eigen::Matrix2d C, D;
-        C << c[1] - c[0], c[2] - c[0];
-        D << l[1] - l[0], l[2] - l[0];
-        const auto [x, y] = per_tri[i].evaluate(D * C.inverse());
+        const auto [x, y] = per_tri[i].evaluate(affine_linear_part(tri_chart[i], tri_layout[i]));
         if (!(x < HUGE_VAL)) return eval_fail(182);
         sum += s == 0 ? w_forward * x + w_backward * y : w_forward * y + w_backward * x;
       }
@@ -1021,16 +1027,14 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // pieces of inner edges in it, cut into cells.
       summed = true;
       std::vector<std::array<int, 2>> segments;
-      std::vector<Vec2> corners;
       for (const int f : split) {
         const auto& fragment = chart.fragments[f];
         segments.clear();
         for (std::size_t k = 0; k < spoke_segments.size(); ++k) {
           const int g = segment_fragment[k];
           if (g == f) segments.push_back(spoke_segments[k]);
-          if (g == -2) {
-            const auto& sides = chart.chord_fragments[chart.chord_of.at(
-                undirected_edge_key(spoke_segments[k][0], spoke_segments[k][1]))];
+          if (g <= -2) {
+            const auto& sides = chart.chord_fragments[-2 - g];
             if (sides[0] == f || sides[1] == f) segments.push_back(spoke_segments[k]);
           }
         }
@@ -1038,15 +1042,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         for (std::size_t k = 0; k < nodes.size(); ++k)
           add_side(nodes[k], nodes[(k + 1) % nodes.size()], segments);
         const auto cells = planar_cells(pos, segments);
-        double covered = 0;
-        if (cells)
-          for (const auto& cell : *cells) {
-            corners.clear();
-            for (int c : cell) corners.push_back(pos[c]);
-            covered += polygon_area(corners);
-          }
         const double area = polygon_area(fragment.chart);
-        if (!cells || !(std::abs(covered - area) <= 1e-9 * area)) {
+        if (!cells || !(std::abs(cells_area(*cells) - area) <= 1e-9 * area)) {
           summed = false;  // the whole ring, below
           break;
         }
@@ -1064,16 +1061,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       add_side(chart.chords[c].a, chart.chords[c].b, segments);
     const auto cells = planar_cells(pos, segments);
     if (!cells) return eval_fail(134);
-    double covered = 0, ring_area = 0;
-    std::vector<Vec2> corners;
-    for (const auto& cell : *cells) {
-      corners.clear();
-      for (int c : cell) corners.push_back(pos[c]);
-      covered += polygon_area(corners);
-    }
-    corners.clear();
-    for (int a : chart.boundary_loop) corners.push_back(pos[a]);
-    ring_area = polygon_area(corners);
+    const double covered = cells_area(*cells), ring_area = cells_area({chart.boundary_loop});
     if (!(std::abs(covered - ring_area) <= 1e-9 * ring_area)) return eval_fail(300);  // not planar
     sum = cells_energy(*cells);
     if (!(sum < HUGE_VAL)) return HUGE_VAL;

@@ -671,13 +671,17 @@ StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::arr
   return {area_m * 0.5 * frob, area_d * 0.5 * frob / (det * det), area_d, area_m};
 }
 
-bool StretchMoments::add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>& b) {
+Eigen::Matrix2d affine_linear_part(const std::array<Vec2, 3>& from, const std::array<Vec2, 3>& to) {
   Eigen::Matrix2d C, D;
-  C << c[1] - c[0], c[2] - c[0];
-  D << b[1] - b[0], b[2] - b[0];
-  const double det_c = C.determinant(), det_d = D.determinant();
+  C << from[1] - from[0], from[2] - from[0];
+  D << to[1] - to[0], to[2] - to[0];
+  return D * C.inverse();
+}
+
+bool StretchMoments::add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>& b) {
+  const double det_c = orient(c[0], c[1], c[2]), det_d = orient(b[0], b[1], b[2]);
   if (!(det_c > 0) || !(det_d > 0)) return false;
-  const Eigen::Matrix2d B = D * C.inverse(), Bi = C * D.inverse();
+  const Eigen::Matrix2d B = affine_linear_part(c, b), Bi = affine_linear_part(b, c);
   const double area_c = 0.5 * det_c, det_b = det_d / det_c;
   const Eigen::Matrix2d BtB = B.transpose() * B, BiBit = Bi * Bi.transpose();
   area += area_c;

@@ -142,6 +142,10 @@ struct StretchTerms {
 };
 StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q);
 
+/// The linear part of the affine map taking triangle `from` to triangle `to`
+/// (corner k to corner k); `from` must not be degenerate.
+Eigen::Matrix2d affine_linear_part(const std::array<Vec2, 3>& from, const std::array<Vec2, 3>& to);
+
 /// The stretch terms of many triangles that one common affine map A takes
 /// from a plane (a chart) to one side, each with its own affine map B from
 /// the chart to the other side (`add`: its corners c in the chart and B·c
