@@ -127,8 +127,9 @@ class InterSurfaceMap {
   static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy
-  /// (line searches inside the kernel of its one-ring in a chart); kept
-  /// only if the map stays valid and the energy drops. Returns the gain.
+  /// (LineSearch::parabolic line searches inside the kernel of its one-ring
+  /// in a chart); kept only if the map stays valid and the energy drops.
+  /// Returns the gain.
   double optimize_vertex(int side, int v);
 
   /// The one-ring of v, counter-clockwise.

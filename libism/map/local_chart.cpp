@@ -756,17 +756,25 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           const double size =
               std::max({(L[1] - L[0]).norm(), (L[2] - L[1]).norm(), (L[0] - L[2]).norm()});
           const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
-          const KinkRule rule = a && b ? options_.kinks : KinkRule::follow_cells;
-          for (const CellKink& kink :
-               cell_kinks(fragment, A, B, a.value_or(A), b.value_or(B), rule)) {
+          // Kinks clear of t's edges as a moved vertex is (a kink that close
+          // leaves pieces later charts cannot lay out), and of the segment's
+          // ends. Under follow_cells a segment whose bends would not be
+          // clear bends only where it must (where_needed).
+          auto clear = [&](const CellKink& kink) {
+            return barycentric(kink.other, L[0], L[1], L[2]).minCoeff() >= layout.clearance &&
+                   !(a && (kink.other - *a).norm() < layout.clearance * size) &&
+                   !(b && (kink.other - *b).norm() < layout.clearance * size);
+          };
+          KinkRule rule = a && b ? options_.kinks : KinkRule::follow_cells;
+          std::vector<CellKink> bends =
+              cell_kinks(fragment, A, B, a.value_or(A), b.value_or(B), rule);
+          if (rule == KinkRule::follow_cells && a && b &&
+              !std::all_of(bends.begin(), bends.end(), clear))
+            bends = cell_kinks(fragment, A, B, *a, *b, KinkRule::where_needed);
+          for (const CellKink& kink : bends) {
             const int node = int(pos.size());
             const Eigen::Vector3d bary = barycentric(kink.other, L[0], L[1], L[2]);
-            // Clear of t's edges as a moved vertex is (a kink that close
-            // leaves pieces later charts cannot lay out).
-            if (bary.minCoeff() < layout.clearance) return eval_fail(97);
-            if ((a && (kink.other - *a).norm() < layout.clearance * size) ||
-                (b && (kink.other - *b).norm() < layout.clearance * size))
-              return eval_fail(98);
+            if (!clear(kink)) return eval_fail(bary.minCoeff() < layout.clearance ? 97 : 98);
             kink_fragment.push_back({node, curved});
             pos.push_back(kink.chart);
             place.push_back({Place::face, fragment.face, 0, clamp_bary(bary)});
@@ -1316,7 +1324,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     return evaluate(chart, layout, nullptr);
   };
   Vec2 p = chart.centre;
-  const double e = minimize_in_kernel(chart.w, p, energy);
+  const double e = minimize_in_kernel(chart.w, p, energy, LineSearch::parabolic);
   if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
@@ -1476,10 +1484,13 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     if (!ranked.empty()) {
       // Line searches from the best candidate, inside vs's kernel.
       Vec2 p = ranked[0].second;
-      const double e = minimize_in_kernel(polygon, p, [&](const Vec2& q) {
-        layout.inner[0].pos = q;
-        return evaluate(chart, layout, nullptr);
-      });
+      const double e = minimize_in_kernel(
+          polygon, p,
+          [&](const Vec2& q) {
+            layout.inner[0].pos = q;
+            return evaluate(chart, layout, nullptr);
+          },
+          LineSearch::parabolic);
       if (e < ranked[0].first) ranked.insert(ranked.begin(), {e, p});
     }
     // The transaction's check may refuse a place the chart accepts (the

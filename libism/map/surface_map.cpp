@@ -506,8 +506,70 @@ std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
   return c;
 }
 
+namespace {
+
+// Brent's minimisation of f over [lo, hi] (lo < 0 < hi) starting from the
+// point 0 whose value f0 is known: each step fits a parabola through the
+// three best points and takes its vertex when it lies inside the bracket
+// and moves less than half the step before the last; otherwise a golden
+// section of the larger part. Values of HUGE_VAL (invalid places) only
+// ever take golden sections. Returns the best point and its value.
+std::pair<double, double> parabolic_search(const std::function<double(double)>& f, double lo,
+                                           double hi, double f0, double tolerance, int max_steps) {
+  const double golden = 0.5 * (3.0 - std::sqrt(5.0));  // 0.381966...
+  double a = lo, b = hi;
+  double x = 0, w = 0, u = 0;  // best, second best, previous second best
+  double fx = f0, fw = f0, fu = f0;
+  double step = 0, last = 0;  // this step and the one before
+  for (int it = 0; it < max_steps; ++it) {
+    const double middle = 0.5 * (a + b);
+    if (std::abs(x - middle) <= 2 * tolerance - 0.5 * (b - a)) break;
+    bool parabola = false;
+    if (std::abs(last) > tolerance && fx < HUGE_VAL && fw < HUGE_VAL && fu < HUGE_VAL) {
+      // Vertex of the parabola through (x, fx), (w, fw), (u, fu).
+      const double r = (x - w) * (fx - fu), q0 = (x - u) * (fx - fw);
+      double num = (x - u) * q0 - (x - w) * r, den = 2 * (q0 - r);
+      if (den > 0) num = -num;
+      den = std::abs(den);
+      if (std::abs(num) < std::abs(0.5 * den * last) && num > den * (a - x) &&
+          num < den * (b - x)) {
+        last = step;
+        step = num / den;
+        const double t = x + step;
+        if (t - a < 2 * tolerance || b - t < 2 * tolerance)
+          step = middle > x ? tolerance : -tolerance;
+        parabola = true;
+      }
+    }
+    if (!parabola) {
+      last = x >= middle ? a - x : b - x;
+      step = golden * last;
+    }
+    const double t =
+        std::abs(step) >= tolerance ? x + step : x + (step > 0 ? tolerance : -tolerance);
+    const double ft = f(t);
+    if (ft <= fx) {
+      (t >= x ? a : b) = x;
+      u = w, fu = fw;
+      w = x, fw = fx;
+      x = t, fx = ft;
+    } else {
+      (t < x ? a : b) = t;
+      if (ft <= fw || w == x) {
+        u = w, fu = fw;
+        w = t, fw = ft;
+      } else if (ft <= fu || u == x || u == w) {
+        u = t, fu = ft;
+      }
+    }
+  }
+  return {x, fx};
+}
+
+}  // namespace
+
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
-                          const std::function<double(const Vec2&)>& energy) {
+                          const std::function<double(const Vec2&)>& energy, LineSearch rule) {
   const std::size_t m = ring.size();
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
@@ -534,6 +596,16 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     const double hi = 0.95 * std::min(max_step(p, d), 2 * scale);
     const double lo = -0.95 * std::min(max_step(p, -d), 2 * scale);
     if (!(hi > lo)) return;
+    if (rule == LineSearch::parabolic) {
+      if (!(hi > 0 && lo < 0)) return;
+      const auto [t, ft] = parabolic_search([&](double t) { return energy(p + t * d); }, lo, hi, e,
+                                            1e-6 * scale, 40);
+      if (ft < e) {
+        p += t * d;
+        e = ft;
+      }
+      return;
+    }
     // Golden-section search along the line, inside the kernel.
     const double g = 0.5 * (std::sqrt(5.0) - 1.0);
     double a = lo, b = hi;

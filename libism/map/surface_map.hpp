@@ -88,13 +88,22 @@ struct MapMeasures {
   double backward_efficiency = 0;  // one-way, surface M² -> domain M¹
 };
 
+/// How minimize_in_kernel searches along a line: golden sections only (24
+/// steps, every search the same cost), or Brent's rule (a parabola through
+/// the three best points where it falls well inside the bracket, a golden
+/// section where not; stops once the bracket is below 1e-6 of the ring's
+/// size: fewer evaluations where the energy is smooth, which is what an
+/// expensive energy wants).
+enum class LineSearch { golden, parabolic };
+
 /// Minimises `energy` over p inside the kernel of the polygon `ring` (line
 /// searches along the gradient and its perpendicular, twice; the gradient
 /// by central differences of 1e-5 of the ring's size, along turned axes and
 /// wider steps where those are not finite); p moves to the best point found.
-/// Returns the energy there.
+/// Returns the energy there. `energy` may return HUGE_VAL (not a valid place).
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
-                          const std::function<double(const Vec2&)>& energy);
+                          const std::function<double(const Vec2&)>& energy,
+                          LineSearch rule = LineSearch::golden);
 
 /// A flat-torus layout of M² over a domain that is the unit square with
 /// opposite sides identified (domain::torus_3x3(): no cones, the vertex

@@ -146,6 +146,46 @@ TEST(KernelCentroid, ThinKernelFarFromTheOrigin) {
   EXPECT_FALSE(kernel_centroid({Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}).has_value());
 }
 
+// Both line-search rules find the minimum of a smooth energy inside the
+// kernel of a ring (an anisotropic bowl whose minimum is off the axes of the
+// start), never return an invalid place (HUGE_VAL beyond a line through the
+// ring), and the parabolic rule needs fewer evaluations.
+TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
+  const std::vector<Vec2> ring{Vec2(1, 0), Vec2(0, 1), Vec2(-1, 0), Vec2(0, -1)};
+  const Vec2 target(0.21, -0.13);
+  std::size_t calls = 0;
+  auto bowl = [&](const Vec2& q) {
+    ++calls;
+    const Vec2 d = q - target;
+    return 1 + 3 * d.x() * d.x() + d.y() * d.y() + d.x() * d.y();
+  };
+  std::array<std::size_t, 2> used{};
+  std::array<Vec2, 2> found;
+  for (const LineSearch rule : {LineSearch::golden, LineSearch::parabolic}) {
+    calls = 0;
+    Vec2 p(-0.3, 0.2);  // energy 1.3
+    const double e = minimize_in_kernel(ring, p, bowl, rule);
+    used[rule == LineSearch::parabolic] = calls;
+    found[rule == LineSearch::parabolic] = p;
+    // Two rounds of two line searches: near the minimum, not on it.
+    EXPECT_LT(e, 1 + 1e-3) << int(rule);
+    EXPECT_LT((p - target).norm(), 0.02) << int(rule);
+  }
+  // The same point whichever rule (each line minimum to 1e-6 of the ring).
+  EXPECT_LT((found[0] - found[1]).norm(), 1e-5);
+  std::printf("evaluations: golden %zu, parabolic %zu\n", used[0], used[1]);
+  EXPECT_LT(2 * used[1], used[0] + 10);
+  // Invalid beyond x + y = 0.2: the minimum found is on the valid side.
+  for (const LineSearch rule : {LineSearch::golden, LineSearch::parabolic}) {
+    Vec2 p(-0.3, 0.2);
+    const double e = minimize_in_kernel(
+        ring, p, [&](const Vec2& q) { return q.x() + q.y() > 0.2 ? HUGE_VAL : bowl(q); }, rule);
+    EXPECT_LT(e, HUGE_VAL) << int(rule);
+    EXPECT_LE(p.x() + p.y(), 0.2) << int(rule);
+    EXPECT_LT(e, bowl(Vec2(-0.3, 0.2))) << int(rule);
+  }
+}
+
 }  // namespace
 }  // namespace ism
 
