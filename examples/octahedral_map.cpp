@@ -13,7 +13,12 @@
 // ISM_NO_LOCAL, ISM_NO_DISC, ISM_FEW_SWEEPS (2 per level, 4 final, no
 // coarse-level extra) and ISM_PLAIN (all three) strip SurfaceMap's
 // refinement schedule.
+// With --base BASE.obj (a closed mesh of the surface's genus whose vertices
+// lie near the surface, e.g. semireg's --write-base) M¹ is that base with
+// equilateral faces, semireg's domain, instead of the octahedron: its
+// vertices snap to the nearest surface vertices and are the features.
 //   octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]
+//                  [--base BASE.obj]
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
@@ -84,13 +89,15 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(
-        stderr,
-        "usage: octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]\n");
+    std::fprintf(stderr,
+                 "usage: octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric] "
+                 "[--base BASE.obj]\n");
     return 2;
   }
   bool equilateral = false, each = false, symmetric = false;
+  const char* base_file = nullptr;
   for (int i = 2; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--base") == 0 && i + 1 < argc) base_file = argv[++i];
     equilateral |= std::strcmp(argv[i], "--equilateral") == 0;
     each |= std::strcmp(argv[i], "--validate-each-step") == 0;
     symmetric |= std::strcmp(argv[i], "--symmetric") == 0;
@@ -104,15 +111,33 @@ int main(int argc, char** argv) {
   };
   const ism::TriangleMesh surface = ism::prepare_mesh(ism::io::read_polygon_soup(argv[1])).mesh;
   lap("read");
-  const ism::PathNetwork network = ism::trace_octahedral_network(surface);
+  ism::TriangleMesh octahedron = ism::domain::octahedron();
+  std::vector<ism::FaceLengths> lengths;
+  ism::PathNetwork network;
+  if (base_file) {
+    // semireg's domain: the base with equilateral faces, its vertices on
+    // the nearest surface vertices.
+    octahedron = ism::prepare_mesh(ism::io::read_polygon_soup(base_file)).mesh;
+    std::vector<int> features;
+    for (const ism::Vec3& p : octahedron.positions) {
+      std::size_t nearest = 0;
+      for (std::size_t v = 1; v < surface.n_vertices(); ++v)
+        if ((surface.positions[v] - p).squaredNorm() <
+            (surface.positions[nearest] - p).squaredNorm())
+          nearest = v;
+      features.push_back(int(nearest));
+    }
+    network = ism::trace_path_network(surface, octahedron, features);
+    lengths = ism::equilateral_lengths(octahedron);
+  } else {
+    network = ism::trace_octahedral_network(surface);
+    lengths = ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
+                                                              : ism::DomainMetric::right_isosceles);
+  }
   lap("partition");
-  const ism::TriangleMesh octahedron = ism::domain::octahedron();
   const ism::ProgressiveMesh pm = ism::simplify_constrained(network, octahedron);
   lap("pm");
-  const ism::DomainGeometry domain(
-      octahedron,
-      ism::octahedron_lengths(octahedron, equilateral ? ism::DomainMetric::equilateral
-                                                      : ism::DomainMetric::right_isosceles));
+  const ism::DomainGeometry domain(octahedron, lengths);
   if (symmetric) return run_symmetric(domain, pm, each, lap);
   ism::MapOptions map_options;
   map_options.release_features = std::getenv("ISM_HOLD") == nullptr;
