@@ -842,9 +842,15 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
       return eval_fail(140);
   }
-  // The face whose chart triangle holds p, or is nearest to holding it (a
-  // cell on a ring edge that bends outwards pokes out of its triangle).
+  // The face whose chart triangle holds p strictly, or is nearest to
+  // holding it (a cell on a ring edge that bends outwards pokes out of its
+  // triangle).
   auto tri_of = [&](const Vec2& p) {
+    for (std::size_t i = 0; i < tri_chart.size(); ++i) {
+      const auto& c = tri_chart[i];
+      if (orient(c[0], c[1], p) > 0 && orient(c[1], c[2], p) > 0 && orient(c[2], c[0], p) > 0)
+        return int(i);
+    }
     int best = -1;
     double depth = -HUGE_VAL;
     for (std::size_t i = 0; i < tri_chart.size(); ++i) {
@@ -989,21 +995,13 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // of s (one affine map of the chart to s each), a cut one shared by
       // the areas of its parts. The other cut fragments: their cells.
       std::vector<StretchMoments> per_tri(tri_chart.size());
-      auto sector_of = [&](const Vec2& q) {
-        for (std::size_t i = 0; i < tri_chart.size(); ++i) {
-          const auto& c = tri_chart[i];
-          if (orient(c[0], c[1], q) > 0 && orient(c[1], c[2], q) > 0 && orient(c[2], c[0], q) > 0)
-            return int(i);
-        }
-        return tri_of(q);
-      };
       std::vector<double> part(tri_chart.size());
       std::vector<int> split;
       sum = 0;
       for (std::size_t f = 0; f < F && sum < HUGE_VAL; ++f) {
         const auto& fragment = chart.fragments[f];
         if (fragment.summable && !cut[f]) {
-          const int ti = sector_of(fragment.inside);
+          const int ti = tri_of(fragment.inside);
           if (ti < 0) return eval_fail(171);
           per_tri[ti].add(fragment.moments);
         } else if (fragment.summable) {
@@ -1023,13 +1021,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         }
       }
       if (!(sum < HUGE_VAL)) return HUGE_VAL;
-      const double w_forward = terms.area0 / (terms.area1 * terms.area1),
-                   w_backward = terms.inverse_weight * terms.area1 / (terms.area0 * terms.area0);
       for (std::size_t i = 0; i < per_tri.size(); ++i) {
         if (!(per_tri[i].area > 0)) continue;
         const auto [x, y] = per_tri[i].evaluate(affine_linear_part(tri_chart[i], tri_layout[i]));
         if (!(x < HUGE_VAL)) return eval_fail(182);
-        sum += s == 0 ? w_forward * x + w_backward * y : w_forward * y + w_backward * x;
+        sum += s == 0 ? stretch_energy(x, y, terms) : stretch_energy(y, x, terms);
       }
       // Each fragment to cut: its sides (split at the new crossings) and the
       // pieces of inner edges in it, cut into cells.

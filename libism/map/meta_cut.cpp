@@ -706,13 +706,18 @@ std::array<double, 2> StretchMoments::evaluate(const Eigen::Matrix2d& A) const {
   return {0.5 * x, 0.5 * det_a * y};
 }
 
+double stretch_energy(double forward, double backward, const EnergyTerms& terms,
+                      double forward_weight) {
+  const double a0 = terms.area0, a1 = terms.area1;
+  return forward_weight * (a0 / (a1 * a1)) * forward +
+         terms.inverse_weight * (a1 / (a0 * a0)) * backward;
+}
+
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);
   if (!(t.forward < HUGE_VAL)) return HUGE_VAL;
-  const double a0 = terms.area0, a1 = terms.area1;
-  return forward_weight * (a0 / (a1 * a1)) * t.forward +
-         terms.inverse_weight * (a1 / (a0 * a0)) * t.backward;
+  return stretch_energy(t.forward, t.backward, terms, forward_weight);
 }
 
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {

@@ -165,6 +165,11 @@ struct StretchMoments {
   std::array<double, 2> evaluate(const Eigen::Matrix2d& A) const;
 };
 
+/// The energy of stretch terms (of one triangle, or summed over many):
+/// forward_weight·A₀/A₁²·forward + inverse_weight·A₁/A₀²·backward, each
+/// one-way term normalised by both sides' total areas (paper §5.2).
+double stretch_energy(double forward, double backward, const EnergyTerms& terms,
+                      double forward_weight = 1);
 /// Energy of one affine triangle: corners p on side 0, q on side 1 (both
 /// counter-clockwise); HUGE_VAL if either is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
