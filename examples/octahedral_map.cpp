@@ -20,6 +20,7 @@
 //   octahedral_map MESH [--equilateral] [--validate-each-step] [--symmetric]
 //                  [--base BASE.obj]
 #include "domain/domain.hpp"
+#include "io/features.hpp"
 #include "io/io.hpp"
 #include "map/map.hpp"
 #include "mesh/mesh_check.hpp"
@@ -118,16 +119,10 @@ int main(int argc, char** argv) {
     // semireg's domain: the base with equilateral faces, its vertices on
     // the nearest surface vertices.
     octahedron = ism::prepare_mesh(ism::io::read_polygon_soup(base_file)).mesh;
-    std::vector<int> features;
-    for (const ism::Vec3& p : octahedron.positions) {
-      std::size_t nearest = 0;
-      for (std::size_t v = 1; v < surface.n_vertices(); ++v)
-        if ((surface.positions[v] - p).squaredNorm() <
-            (surface.positions[nearest] - p).squaredNorm())
-          nearest = v;
-      features.push_back(int(nearest));
-    }
-    network = ism::trace_path_network(surface, octahedron, features);
+    std::vector<ism::io::FeatureEntry> points(octahedron.n_vertices());
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].point = octahedron.positions[i];
+    network = ism::trace_path_network(surface, octahedron,
+                                      ism::io::resolve_features(points, surface, 0, base_file));
     lengths = ism::equilateral_lengths(octahedron);
   } else {
     network = ism::trace_octahedral_network(surface);
