@@ -185,6 +185,17 @@ class InterSurfaceMap {
   /// The same with the ring starting at the face (v, start, *).
   /// (With `ring_only`, only the ring's faces, vertices and edges.)
   bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
+  /// The exact development of v's ring (v inside a face of the other side,
+  /// none of its vertices inside the ring's faces): chart.w from unfolding
+  /// each spoke's image, chart.boundary_breaks from unfolding the ring's
+  /// edges, chart.straight_boundary; false (chart.w untouched) if it cannot
+  /// be made or is not star-shaped around chart.centre.
+  bool developed_ring(int s, int v, Chart& chart) const;
+  /// The ring's boundary in a chart from ring[first] to ring[last] (last ==
+  /// the ring's size: the whole loop), with the break points of its edges
+  /// where they are not on the chords between the ring's vertices.
+  static std::vector<Vec2> boundary_polygon(const Chart& chart, std::size_t first,
+                                            std::size_t last);
   /// The fallback of a split (after its connectivity change): vs placed a
   /// fraction eps along one of vt's old edges it took over, its new edges
   /// to vl and vr copies of vt's shifted by eps; false if that cannot be

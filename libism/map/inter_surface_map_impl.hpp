@@ -37,6 +37,14 @@ struct InterSurfaceMap::Chart {
   std::vector<int> faces, corner, ring;  // face i = (v, ring[i], ring[i+1]); corner of v in it
   std::vector<int> spoke, boundary;      // edges (v, ring[i]) and (ring[i], ring[i+1])
   std::vector<Vec2> w;                   // chart position of ring[i]
+  /// With an exact development (developed_ring): the chart positions of the
+  /// break points of boundary[i] in order from ring[i], and whether every
+  /// ring edge is straight there (break points where their parameters put
+  /// them on the chord).
+  std::vector<std::vector<Vec2>> boundary_breaks;
+  bool straight_boundary = true;
+  /// Likewise for the spokes (false: drawing them straight is a change).
+  bool straight_spokes = true;
   Vec2 centre = Vec2::Zero();            // chart position of v
   enum Kind { fast, developed, general } kind = general;
   int single_face = -1;  // fast: the face of t holding the whole ring (the chart is its layout)
@@ -49,6 +57,7 @@ struct InterSurfaceMap::Chart {
   };
   std::vector<Anchor> anchors;
   std::vector<int> ring_anchor, boundary_loop, interior;
+  std::vector<std::size_t> loop_start;  // where ring[i]'s anchor is in boundary_loop
   int centre_anchor = -1;  // the vertex of t that v sits on, if any
   /// A piece of an edge of t inside the ring, redrawn straight between two
   /// anchors; its break points first..last-1 (crossings with the ring's

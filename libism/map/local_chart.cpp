@@ -81,6 +81,133 @@ std::map<int, double> InterSurfaceMap::vertex_edge_angles(int side, int x) const
   return out;
 }
 
+// The ring's boundary in the chart from ring[first] to ring[last] (last ==
+// m: the whole loop), with the break points of its edges where those do not
+// lie on the chords between the ring's vertices.
+std::vector<Vec2> InterSurfaceMap::boundary_polygon(const Chart& chart, std::size_t first,
+                                                    std::size_t last) {
+  const std::size_t m = chart.ring.size();
+  if (chart.straight_boundary) {
+    if (last == m) return chart.w;
+    return {chart.w.begin() + first, chart.w.begin() + last + 1};
+  }
+  const std::size_t end = last == m ? chart.boundary_loop.size() : chart.loop_start[last] + 1;
+  std::vector<Vec2> polygon;
+  for (std::size_t i = chart.loop_start[first]; i < end; ++i)
+    polygon.push_back(chart.anchors[chart.boundary_loop[i]].pos);
+  return polygon;
+}
+
+bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
+  const int t = 1 - s;
+  const MetaSide& S = meta_.side[s];
+  const MetaSide& T = meta_.side[t];
+  const MetaSideIndex& IT = index_[t];
+  const std::size_t m = chart.ring.size();
+  for (int f : chart.faces)
+    if (!index_[s].residents[f].empty()) return false;
+  // A face of t laid out in the chart: its canonical layout moved rigidly.
+  struct Placed {
+    int face;
+    Layout3 corner;
+  };
+  // Follows edge e of s from its end `from` across the faces of t, from
+  // `here` (the face holding `from`); each break point's chart position
+  // goes to `breaks` (in order from `from`), and the face holding the other
+  // end to `here`.
+  auto walk = [&](int e, int from, Placed& here, std::vector<Vec2>* breaks) {
+    const auto& list = S.crossings[e];
+    const bool forward = S.edges[e][0] == from;
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const MetaCrossing& c = list[forward ? k : list.size() - 1 - k];
+      if (c.is_kink()) {
+        if (c.face != here.face) return false;
+        if (breaks)
+          breaks->push_back(c.bary[0] * here.corner[0] + c.bary[1] * here.corner[1] +
+                            c.bary[2] * here.corner[2]);
+        continue;
+      }
+      const auto& fe = T.face_edges[here.face];
+      const int j = fe[0] == c.edge ? 0 : fe[1] == c.edge ? 1 : fe[2] == c.edge ? 2 : -1;
+      if (j < 0) return false;
+      const auto& ef = IT.edge_faces[c.edge];
+      const int next = ef[0] == here.face ? ef[1] : ef[0];
+      if (next < 0 || next == here.face) return false;
+      const int a = T.faces[here.face][j], b = T.faces[here.face][(j + 1) % 3];
+      const Vec2 pa = here.corner[j], pb = here.corner[(j + 1) % 3];
+      if (breaks)
+        breaks->push_back(T.edges[c.edge][0] == a ? pa + c.there * (pb - pa)
+                                                  : pb + c.there * (pa - pb));
+      const Triangle& g = T.faces[next];
+      const int ia = g[0] == a ? 0 : g[1] == a ? 1 : g[2] == a ? 2 : -1;
+      const int ib = g[0] == b ? 0 : g[1] == b ? 1 : g[2] == b ? 2 : -1;
+      if (ia < 0 || ib < 0) return false;
+      const Layout3 G = meta_face_layout(T.lengths[next]);
+      const Vec2 u = G[ib] - G[ia], d = pb - pa;
+      const double uu = u.squaredNorm();
+      if (!(uu > 0) || std::abs(u.norm() - d.norm()) > 1e-9 * (u.norm() + d.norm())) return false;
+      // The rotation taking u to d, then G[ia] to pa.
+      const double cs = u.dot(d) / uu, sn = (u.x() * d.y() - u.y() * d.x()) / uu;
+      here.face = next;
+      for (int q = 0; q < 3; ++q) {
+        const Vec2 r = G[q] - G[ia];
+        here.corner[q] = pa + Vec2(cs * r.x() - sn * r.y(), sn * r.x() + cs * r.y());
+      }
+    }
+    return true;
+  };
+  // Where vertex x of s lies in a placed face of t.
+  auto position = [&](int x, const Placed& here) -> std::optional<Vec2> {
+    const MetaLocation& loc = S.location[x];
+    if (loc.face != here.face) return std::nullopt;
+    return loc.bary[0] * here.corner[0] + loc.bary[1] * here.corner[1] +
+           loc.bary[2] * here.corner[2];
+  };
+  const Placed centre{S.location[v].face, meta_face_layout(T.lengths[S.location[v].face])};
+  std::vector<Vec2> w(m);
+  std::vector<Placed> at(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    at[i] = centre;
+    if (!walk(chart.spoke[i], v, at[i], nullptr)) return false;
+    const auto p = position(chart.ring[i], at[i]);
+    if (!p) return false;  // (a neighbour on a vertex of t: the law of cosines)
+    w[i] = *p;
+  }
+  // The ring must be star-shaped around v with every angle below 0.95 π
+  // (as the law of cosines' layout is made).
+  double total = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec2 a = w[i] - chart.centre, b = w[(i + 1) % m] - chart.centre;
+    const double angle = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    if (!(angle > 0) || angle > 0.95 * M_PI) return false;
+    total += angle;
+  }
+  if (std::abs(total - 2 * M_PI) > 1e-9) return false;
+  // The break points of the ring's edges, where they are on t; each edge
+  // must end where the next spoke put its end.
+  std::vector<std::vector<Vec2>> breaks(m);
+  chart.straight_boundary = true;
+  for (std::size_t i = 0; i < m; ++i) {
+    Placed here = at[i];
+    if (!walk(chart.boundary[i], chart.ring[i], here, &breaks[i])) return false;
+    const auto q = position(chart.ring[(i + 1) % m], here);
+    const Vec2& end = w[(i + 1) % m];
+    const double scale = (end - w[i]).norm();
+    if (!q || (*q - end).norm() > 1e-9 * scale) return false;
+    const int e = chart.boundary[i];
+    const auto& list = S.crossings[e];
+    const bool forward = S.edges[e][0] == chart.ring[i];
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const double u = forward ? list[k].here : 1 - list[list.size() - 1 - k].here;
+      if ((breaks[i][k] - (w[i] + u * (end - w[i]))).norm() > 1e-9 * scale)
+        chart.straight_boundary = false;
+    }
+  }
+  chart.w = std::move(w);
+  chart.boundary_breaks = std::move(breaks);
+  return true;
+}
+
 bool InterSurfaceMap::build_chart(int s, int v, Chart& chart) const {
   return build_chart_from(s, v, -1, chart);
 }
@@ -256,42 +383,52 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       if (!found) return chart_fail(7);
     }
   }
-  // Angles between consecutive edges: by the law of cosines on the lengths
-  // of their images (paper §5.1), or, where those lengths break the
-  // triangle inequality, as the edges leave v; scaled to sum to 2π, none
-  // reaching π (so the ring is star-shaped around v in the chart).
-  std::vector<double> theta(m);
-  double total = 0, local_total = 0;
-  for (std::size_t i = 0; i < m; ++i) {
-    double d = direction[(i + 1) % m] - direction[i];
-    d = std::fmod(std::fmod(d, cone) + cone, cone);
-    if (!(d > 0)) return chart_fail(8);
-    local_total += d;
-    const double r0 = radius[i], r1 = radius[(i + 1) % m], b = side[i];
-    const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
-    theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : d * 2 * M_PI / cone;
-    total += theta[i];
-  }
-  if (!(total > 0) || local_total > 2 * cone + 1e-9) return chart_fail(9);
-  bool rescale = vloc.face < 0 || std::abs(total - 2 * M_PI) > 1e-9;
-  for (double& a : theta) a *= 2 * M_PI / total;
-  for (int round = 0; round < 8; ++round) {
-    double excess = 0, room = 0;
-    for (double a : theta) {
-      excess += std::max(0.0, a - 0.95 * M_PI);
-      room += std::max(0.0, 0.95 * M_PI - a);
+  // Where v lies inside a face of t and no vertex of t lies inside the
+  // ring's faces, the region is flat: each neighbour where its spoke's
+  // image, unfolded face by face across the edges of t it crosses, ends.
+  // This is the exact development; the law of cosines below equals it only
+  // while the ring's edges are straight across the edges of t they cross.
+  bool rescale = true;
+  if (vloc.face >= 0 && developed_ring(s, v, chart)) {
+    rescale = false;
+  } else {
+    // Angles between consecutive edges: by the law of cosines on the lengths
+    // of their images (paper §5.1), or, where those lengths break the
+    // triangle inequality, as the edges leave v; scaled to sum to 2π, none
+    // reaching π (so the ring is star-shaped around v in the chart).
+    std::vector<double> theta(m);
+    double total = 0, local_total = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      double d = direction[(i + 1) % m] - direction[i];
+      d = std::fmod(std::fmod(d, cone) + cone, cone);
+      if (!(d > 0)) return chart_fail(8);
+      local_total += d;
+      const double r0 = radius[i], r1 = radius[(i + 1) % m], b = side[i];
+      const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
+      theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : d * 2 * M_PI / cone;
+      total += theta[i];
     }
-    if (excess <= 0) break;
-    rescale = true;
-    for (double& a : theta)
-      a = a > 0.95 * M_PI ? 0.95 * M_PI : a + excess * (0.95 * M_PI - a) / room;
-  }
-  total = 2 * M_PI;
-  chart.w.resize(m);
-  double phi = vloc.face >= 0 ? direction[0] : 0.0;
-  for (std::size_t i = 0; i < m; ++i) {
-    chart.w[i] = chart.centre + radius[i] * Vec2(std::cos(phi), std::sin(phi));
-    phi += theta[i] * 2 * M_PI / total;
+    if (!(total > 0) || local_total > 2 * cone + 1e-9) return chart_fail(9);
+    rescale = vloc.face < 0 || std::abs(total - 2 * M_PI) > 1e-9;
+    for (double& a : theta) a *= 2 * M_PI / total;
+    for (int round = 0; round < 8; ++round) {
+      double excess = 0, room = 0;
+      for (double a : theta) {
+        excess += std::max(0.0, a - 0.95 * M_PI);
+        room += std::max(0.0, 0.95 * M_PI - a);
+      }
+      if (excess <= 0) break;
+      rescale = true;
+      for (double& a : theta)
+        a = a > 0.95 * M_PI ? 0.95 * M_PI : a + excess * (0.95 * M_PI - a) / room;
+    }
+    total = 2 * M_PI;
+    chart.w.resize(m);
+    double phi = vloc.face >= 0 ? direction[0] : 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      chart.w[i] = chart.centre + radius[i] * Vec2(std::cos(phi), std::sin(phi));
+      phi += theta[i] * 2 * M_PI / total;
+    }
   }
 
   // Anchors: the ring's vertices and the break points of its boundary edges.
@@ -304,6 +441,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   for (std::size_t i = 0; i < m; ++i) {
     const int a = add_anchor(vertex_node(meta_, s, chart.ring[i]), chart.w[i]);
     chart.ring_anchor.push_back(a);
+    chart.loop_start.push_back(chart.boundary_loop.size());
     chart.boundary_loop.push_back(a);
     const int e = chart.boundary[i];
     const auto& list = S.crossings[e];
@@ -315,7 +453,8 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       const auto node = break_node(meta_, s, e, n);
       if (!node) return chart_fail(227);
       const double u = forward ? list[n].here : 1 - list[n].here;
-      chart.boundary_loop.push_back(add_anchor(*node, p + u * (q - p)));
+      chart.boundary_loop.push_back(add_anchor(
+          *node, chart.boundary_breaks.empty() ? p + u * (q - p) : chart.boundary_breaks[i][k]));
     }
   }
   // t's vertices inside: under v, and in the ring's faces (where their
@@ -583,6 +722,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       }
     }
     rescale = true;
+    chart.straight_boundary = true;
     relax(false);
     laid_out = make_fragments();
   }
@@ -590,7 +730,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   if (chart.centre_anchor >= 0) chart.centre = chart.anchors[chart.centre_anchor].pos;
   // Is the chart an isometric development of t around the ring? Then every
   // cell of t's content is congruent to its image.
-  bool isometric = !rescale && !bent && chart.interior.empty();
+  bool isometric = !rescale && !bent && chart.interior.empty() && chart.straight_boundary;
   for (const auto& fragment : chart.fragments) {
     const auto &p = fragment.chart, &q = fragment.other;
     for (std::size_t j = 1; j < p.size() && isometric; ++j)
@@ -1320,7 +1460,8 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     return evaluate(chart, layout, nullptr);
   };
   Vec2 p = chart.centre;
-  const double e = minimize_in_kernel(chart.w, p, energy, LineSearch::parabolic);
+  const double e =
+      minimize_in_kernel(boundary_polygon(chart, 0, m), p, energy, LineSearch::parabolic);
   if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
@@ -1458,7 +1599,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   // the middles of the triangles (vt, w_j, w_j+1) it takes over, each also
   // drawn towards vt; the valid one of lowest energy wins.
   if (charted) {
-    std::vector<Vec2> polygon(chart.w.begin(), chart.w.begin() + last + 1);
+    std::vector<Vec2> polygon = boundary_polygon(chart, 0, last);
     polygon.push_back(chart.centre);
     std::vector<Vec2> candidates;
     if (const std::optional<Vec2> kernel = kernel_centroid(polygon)) candidates.push_back(*kernel);

@@ -212,6 +212,35 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
     return out;
   };
 
+  // A face lying inside one face h of the other side (its corners in h, no
+  // break on its edges, nothing of the other side inside) is one piece:
+  // the same piece the general cut below finds, without cutting.
+  if (const int h = S.location[S.faces[f][0]].face;
+      h >= 0 && S.location[S.faces[f][1]].face == h && S.location[S.faces[f][2]].face == h &&
+      index[s].residents[f].empty() && S.crossings[S.face_edges[f][0]].empty() &&
+      S.crossings[S.face_edges[f][1]].empty() && S.crossings[S.face_edges[f][2]].empty()) {
+    const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
+    MetaPiece piece;
+    // Corners counter-clockwise from the smallest key (the smallest vertex).
+    const Triangle& tri = S.faces[f];
+    const int first = tri[0] < tri[1] ? (tri[0] < tri[2] ? 0 : 2) : (tri[1] < tri[2] ? 1 : 2);
+    for (int i = 0; i < 3; ++i) {
+      const int k = (first + i) % 3;
+      const MetaNode node = vertex_node(meta, s, tri[k]);
+      piece.nodes.push_back(node.key);
+      piece.corner[s].push_back(L[k]);
+      piece.corner[1 - s].push_back(*place_in_layout(T, h, Lh, node.place[1 - s]));
+    }
+    piece.face[s] = f;
+    piece.face[1 - s] = h;
+    piece.area[s] = polygon_area(piece.corner[s]);
+    piece.area[1 - s] = polygon_area(piece.corner[1 - s]);
+    if (!(piece.area[s] > 0)) return fail("a piece with no area");
+    if (!(piece.area[1 - s] > 0)) return fail("a piece that is folded or torn on the other mesh");
+    out.pieces.push_back(std::move(piece));
+    return out;
+  }
+
   std::vector<MetaNode> nodes;
   std::vector<Vec2> position;
   std::map<NodeKey, int> local;
