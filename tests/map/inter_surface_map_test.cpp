@@ -585,16 +585,16 @@ TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
 // two-surface partition, both sides refined from their common base (paths
 // and Steiner vertices take each side to 1-2K faces), validated from both
 // sides after every operation, every move's gain checked against the
-// energy's drop (~4.5 min). This driver moves only the new ring and the
-// other side's vertices in it (no sweeps): 0.124 here, 0.34-0.44 at 150
-// vertices each; the example with sweeps reaches 0.78
-// (docs/results-two-surfaces.md).
+// energy's drop (~3 min; at 80 vertices each 5.7 min, 7.6 in CI beside
+// another test). This driver moves only the new ring and the other side's
+// vertices in it (no sweeps): 0.54 here, 0.25 at 80 vertices, 0.34-0.44 at
+// 150; the example with sweeps reaches 0.78 (docs/results-two-surfaces.md).
 TEST(InterSurfaceMap, BothSidesRefineGenusTwoDoubleTorusAndEightLoop) {
   ISM_REQUIRE_SHARED_MODELS();
   const MapMeasures m =
       refine_pair_checked("double_torus / eight_loop2",
-                          compatible_pms("double_torus.obj", "eight_loop2.obj", 80, 2), 5);
-  EXPECT_GT(m.symmetric_efficiency, 0.1);  // measured 0.1236
+                          compatible_pms("double_torus.obj", "eight_loop2.obj", 70, 2), 5);
+  EXPECT_GT(m.symmetric_efficiency, 0.3);  // measured 0.5416
 }
 
 // Known limitation, run with --gtest_also_run_disabled_tests: this harder
