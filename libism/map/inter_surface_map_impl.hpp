@@ -45,7 +45,7 @@ struct InterSurfaceMap::Chart {
   bool straight_boundary = true;
   /// Likewise for the spokes (false: drawing them straight is a change).
   bool straight_spokes = true;
-  Vec2 centre = Vec2::Zero();            // chart position of v
+  Vec2 centre = Vec2::Zero();  // chart position of v
   enum Kind { fast, developed, general } kind = general;
   int single_face = -1;  // fast: the face of t holding the whole ring (the chart is its layout)
   /// Meta-vertices of t's content fixed in the chart: the ring's vertices
@@ -58,7 +58,7 @@ struct InterSurfaceMap::Chart {
   std::vector<Anchor> anchors;
   std::vector<int> ring_anchor, boundary_loop, interior;
   std::vector<std::size_t> loop_start;  // where ring[i]'s anchor is in boundary_loop
-  int centre_anchor = -1;  // the vertex of t that v sits on, if any
+  int centre_anchor = -1;               // the vertex of t that v sits on, if any
   /// A piece of an edge of t inside the ring, redrawn straight between two
   /// anchors; its break points first..last-1 (crossings with the ring's
   /// inner edges, kinks) are replaced.
