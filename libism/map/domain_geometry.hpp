@@ -94,6 +94,11 @@ std::vector<FaceLengths> equilateral_lengths(const TriangleMesh& domain);
 
 /// Barycentric coordinates of p in the triangle (a, b, c).
 Eigen::Vector3d barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c);
+/// The point with barycentric coordinates b in the triangle with these
+/// corners (the inverse of barycentric(); b is used as given, not normalised).
+inline Vec2 from_barycentric(const Eigen::Vector3d& b, const std::array<Vec2, 3>& corner) {
+  return b[0] * corner[0] + b[1] * corner[1] + b[2] * corner[2];
+}
 /// Twice the signed area of (a, b, c): positive when counter-clockwise.
 inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());

@@ -59,7 +59,7 @@ std::optional<FlatTorusLayout> SurfaceMap::flat_layout() const {
     } else {
       const auto& layout = (*square)[location_[v].face];
       const Eigen::Vector3d& b = location_[v].bary;
-      p = b[0] * layout[0] + b[1] * layout[1] + b[2] * layout[2];
+      p = from_barycentric(b, layout);
     }
     out.position[v] = p - p.array().floor().matrix();
   }
@@ -141,7 +141,7 @@ bool SurfaceMap::set_flat_layout(const FlatTorusLayout& layout, double max_energ
     set_location(int(v), best_face, best_layout, p);
     placed[v] = best_layout;
     const Eigen::Vector3d& b = location_[v].bary;
-    point[v] = b[0] * best_layout[0] + b[1] * best_layout[1] + b[2] * best_layout[2];
+    point[v] = from_barycentric(b, best_layout);
   }
 
   // Every M² edge as the straight segment between its lifted corners,

@@ -188,7 +188,7 @@ class InterSurfaceMap {
   /// The exact development of v's ring (v inside a face of the other side,
   /// none of its vertices inside the ring's faces): chart.w from unfolding
   /// each spoke's image, chart.boundary_breaks from unfolding the ring's
-  /// edges, chart.straight_boundary; false (chart.w untouched) if it cannot
+  /// edges, chart.straight_boundary; false (the chart untouched) if it cannot
   /// be made or is not star-shaped around chart.centre.
   bool developed_ring(int s, int v, Chart& chart) const;
   /// The ring's boundary in a chart from ring[first] to ring[last] (last ==

@@ -102,7 +102,8 @@ struct InterSurfaceMap::Layout {
   /// Chart point reference: r >= 0 is ring position r, r < 0 inner vertex -1 - r.
   struct Tri {
     int face;
-    std::array<int, 3> ref;  // in the order of the face's corners
+    std::array<int, 3> ref;     // in the order of the face's corners
+    std::array<Vec2, 3> shape;  // the face's own layout (meta_face_layout of its lengths)
   };
   std::vector<Tri> tris;
   struct Spoke {

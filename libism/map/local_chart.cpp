@@ -122,9 +122,7 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
       const MetaCrossing& c = list[forward ? k : list.size() - 1 - k];
       if (c.is_kink()) {
         if (c.face != here.face) return false;
-        if (breaks)
-          breaks->push_back(c.bary[0] * here.corner[0] + c.bary[1] * here.corner[1] +
-                            c.bary[2] * here.corner[2]);
+        if (breaks) breaks->push_back(from_barycentric(c.bary, here.corner));
         continue;
       }
       const auto& fe = T.face_edges[here.face];
@@ -142,11 +140,13 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
       const int ia = g[0] == a ? 0 : g[1] == a ? 1 : g[2] == a ? 2 : -1;
       const int ib = g[0] == b ? 0 : g[1] == b ? 1 : g[2] == b ? 2 : -1;
       if (ia < 0 || ib < 0) return false;
+      // The face's own layout (robust for slivers, unlike placing the third
+      // corner by the law of cosines) moved rigidly: the rotation taking
+      // G[ia] -> G[ib] to pa -> pb, then G[ia] to pa.
       const Layout3 G = meta_face_layout(T.lengths[next]);
       const Vec2 u = G[ib] - G[ia], d = pb - pa;
       const double uu = u.squaredNorm();
       if (!(uu > 0) || std::abs(u.norm() - d.norm()) > 1e-9 * (u.norm() + d.norm())) return false;
-      // The rotation taking u to d, then G[ia] to pa.
       const double cs = u.dot(d) / uu, sn = (u.x() * d.y() - u.y() * d.x()) / uu;
       here.face = next;
       for (int q = 0; q < 3; ++q) {
@@ -160,8 +160,7 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
   auto position = [&](int x, const Placed& here) -> std::optional<Vec2> {
     const MetaLocation& loc = S.location[x];
     if (loc.face != here.face) return std::nullopt;
-    return loc.bary[0] * here.corner[0] + loc.bary[1] * here.corner[1] +
-           loc.bary[2] * here.corner[2];
+    return from_barycentric(loc.bary, here.corner);
   };
   const Placed centre{S.location[v].face, meta_face_layout(T.lengths[S.location[v].face])};
   std::vector<Vec2> w(m);
@@ -186,7 +185,7 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
   // The break points of the ring's edges, where they are on t; each edge
   // must end where the next spoke put its end.
   std::vector<std::vector<Vec2>> breaks(m);
-  chart.straight_boundary = true;
+  bool straight = true;
   for (std::size_t i = 0; i < m; ++i) {
     Placed here = at[i];
     if (!walk(chart.boundary[i], chart.ring[i], here, &breaks[i])) return false;
@@ -199,10 +198,10 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
     const bool forward = S.edges[e][0] == chart.ring[i];
     for (std::size_t k = 0; k < list.size(); ++k) {
       const double u = forward ? list[k].here : 1 - list[list.size() - 1 - k].here;
-      if ((breaks[i][k] - (w[i] + u * (end - w[i]))).norm() > 1e-9 * scale)
-        chart.straight_boundary = false;
+      if ((breaks[i][k] - (w[i] + u * (end - w[i]))).norm() > 1e-9 * scale) straight = false;
     }
   }
+  chart.straight_boundary = straight;
   chart.w = std::move(w);
   chart.boundary_breaks = std::move(breaks);
   return true;
@@ -262,9 +261,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     chart.kind = Chart::fast;
     chart.single_face = vloc.face;
     const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
-    auto at = [&](const Eigen::Vector3d& b) {
-      return Vec2(b[0] * L[0] + b[1] * L[1] + b[2] * L[2]);
-    };
+    auto at = [&](const Eigen::Vector3d& b) { return from_barycentric(b, L); };
     chart.centre = at(vloc.bary);
     for (std::size_t i = 0; i < m; ++i) {
       chart.w.push_back(at(S.location[chart.ring[i]].bary));
@@ -330,7 +327,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   double cone = 2 * M_PI;
   if (vloc.face >= 0) {
     const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
-    chart.centre = vloc.bary[0] * L[0] + vloc.bary[1] * L[1] + vloc.bary[2] * L[2];
+    chart.centre = from_barycentric(vloc.bary, L);
     for (std::size_t i = 0; i < m; ++i) {
       const auto first = first_place(i);
       if (!first) return chart_fail(3);
@@ -471,8 +468,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     corner[(c + 2) % 3] = chart.w[(i + 1) % m];
     for (int x : IS.residents[f]) {
       const Eigen::Vector3d& b = T.location[x].bary;
-      chart.interior.push_back(add_anchor(vertex_node(meta_, t, x),
-                                          b[0] * corner[0] + b[1] * corner[1] + b[2] * corner[2]));
+      chart.interior.push_back(add_anchor(vertex_node(meta_, t, x), from_barycentric(b, corner)));
     }
   }
 
@@ -775,11 +771,10 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   if (chart.kind != Chart::general && !out) {
     double sum = 0;
     for (const auto& tri : layout.tris) {
-      const std::array<Vec2, 3> L = meta_face_layout(S.lengths[tri.face]);
       const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
                                   pos[node_of(tri.ref[2])]};
       double e;
-      sides(L, q, e);
+      sides(tri.shape, q, e);
       sum += e;
       if (!(sum < HUGE_VAL)) return eval_fail(31);
     }
@@ -978,7 +973,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   for (const auto& tri : layout.tris) {
     tri_chart.push_back(
         {pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])], pos[node_of(tri.ref[2])]});
-    tri_layout.push_back(meta_face_layout(S.lengths[tri.face]));
+    tri_layout.push_back(tri.shape);
     if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
       return eval_fail(140);
   }
@@ -1023,7 +1018,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         }
       }
       const Eigen::Vector3d b = barycentric(pos[c], tc[0], tc[1], tc[2]);
-      piece.corner[s].push_back(b[0] * tl[0] + b[1] * tl[1] + b[2] * tl[2]);
+      piece.corner[s].push_back(from_barycentric(b, tl));
     }
     piece.face[s] = layout.tris[ti].face;
     piece.area[s] = polygon_area(piece.corner[s]);
@@ -1392,7 +1387,7 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
       const Vec2 dir = p1 - p0;
       if (c.is_kink()) {
         const std::array<Vec2, 3> Lk = meta_face_layout(T.lengths[c.face]);
-        const Vec2 at = c.bary[0] * Lk[0] + c.bary[1] * Lk[1] + c.bary[2] * Lk[2];
+        const Vec2 at = from_barycentric(c.bary, Lk);
         const Vec2 shifted = at + side * eps * Vec2(-dir.y(), dir.x());
         const Eigen::Vector3d b = barycentric(shifted, Lk[0], Lk[1], Lk[2]);
         if (!(b.minCoeff() > 0)) return false;
@@ -1448,7 +1443,8 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     std::array<int, 3> ref;
     const int c = chart.corner[i];
     ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
-    layout.tris.push_back({chart.faces[i], ref});
+    layout.tris.push_back(
+        {chart.faces[i], ref, meta_face_layout(meta_.side[s].lengths[chart.faces[i]])});
     layout.spokes.push_back({-1, int(i), chart.spoke[i]});
   }
   const double before = faces_energy(s, chart.faces);
@@ -1582,13 +1578,13 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     std::array<int, 3> ref;
     const int c = chart.corner[i];
     ref[c] = i < last ? -1 : -2, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
-    layout.tris.push_back({chart.faces[i], ref});
+    layout.tris.push_back({chart.faces[i], ref, meta_face_layout(S.lengths[chart.faces[i]])});
   }
   // A strict attempt keeps the clearance of moves; the last one may come
   // closer (a split must place its vertex).
   layout.clearance = cap < HUGE_VAL ? 1e-6 : 1e-8;
-  layout.tris.push_back({fa, {-1, -2, 0}});
-  layout.tris.push_back({fb, {-2, -1, int(last)}});
+  layout.tris.push_back({fa, {-1, -2, 0}, meta_face_layout(S.lengths[fa])});
+  layout.tris.push_back({fb, {-2, -1, int(last)}, meta_face_layout(S.lengths[fb])});
   for (std::size_t i = 0; i <= last; ++i)
     layout.spokes.push_back({-1, int(i), i == 0 ? e_vl : i == last ? e_vr : chart.spoke[i]});
   for (std::size_t i = last; i <= m; ++i)

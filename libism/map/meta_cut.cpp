@@ -160,7 +160,7 @@ std::optional<Vec2> place_in_layout(const MetaSide& side, int f, const std::arra
       return std::nullopt;
     case Place::face:
       if (place.index != f) return std::nullopt;
-      return Vec2(place.bary[0] * l[0] + place.bary[1] * l[1] + place.bary[2] * l[2]);
+      return from_barycentric(place.bary, l);
   }
   return std::nullopt;
 }

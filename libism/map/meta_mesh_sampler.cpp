@@ -59,7 +59,7 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
                                                     const Eigen::Vector3d& bary) const {
   if (m < 0 || m > 1 || face < 0 || std::size_t(face) >= layout_[m].size()) return std::nullopt;
   const auto& l = layout_[m][face];
-  const Vec2 p = bary[0] * l[0] + bary[1] * l[1] + bary[2] * l[2];
+  const Vec2 p = from_barycentric(bary, l);
   const Grid& g = grid_[m][face];
   const int x = std::clamp(int(std::floor((p.x() - g.lo.x()) / g.cell)), 0, g.n - 1);
   const int y = std::clamp(int(std::floor((p.y() - g.lo.y()) / g.cell)), 0, g.n - 1);

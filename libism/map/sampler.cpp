@@ -53,7 +53,7 @@ std::optional<SurfacePoint> MapSampler::surface_point(int domain_face,
                                                       const Eigen::Vector3d& bary) const {
   const Grid& g = grids_[domain_face];
   const auto& l = map_.domain().layout(domain_face);
-  const Vec2 q = bary[0] * l[0] + bary[1] * l[1] + bary[2] * l[2];
+  const Vec2 q = from_barycentric(bary, l);
   const Vec2 size = (g.hi - g.lo) / g.n;
   const int x = std::clamp(int(std::floor((q.x() - g.lo.x()) / size.x())), 0, g.n - 1);
   const int y = std::clamp(int(std::floor((q.y() - g.lo.y()) / size.y())), 0, g.n - 1);
@@ -82,7 +82,7 @@ std::optional<DomainLocation> MapSampler::domain_point(int surface_face,
   std::optional<DomainLocation> found;
   SurfaceMap::FaceChart chart;
   if (!map_.face_chart(surface_face, chart)) return found;
-  const Vec2 q = bary[0] * chart.corner[0] + bary[1] * chart.corner[1] + bary[2] * chart.corner[2];
+  const Vec2 q = from_barycentric(bary, chart.corner);
   for_each_piece(map_, surface_face, [&](const OverlayPiece& piece) {
     const auto& l = piece.domain_layout;
     const Eigen::Vector3d b = barycentric(q, l[0], l[1], l[2]);

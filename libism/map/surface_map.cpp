@@ -136,7 +136,7 @@ Vec2 SurfaceMap::position_in(int v, int face, const std::array<Vec2, 3>& layout)
     return layout[t[0] == x ? 0 : t[1] == x ? 1 : 2];
   }
   const Eigen::Vector3d& b = location_[v].bary;
-  return b[0] * layout[0] + b[1] * layout[1] + b[2] * layout[2];
+  return from_barycentric(b, layout);
 }
 
 SurfaceMap::WalkEnd SurfaceMap::follow(const EdgeWalk& walk,
@@ -241,7 +241,7 @@ bool SurfaceMap::trace_from(int u, int face, std::array<Vec2, 3> layout, const V
 Vec2 SurfaceMap::interior_point(const std::array<Vec2, 3>& layout, const Vec2& p) {
   Eigen::Vector3d b = barycentric(p, layout[0], layout[1], layout[2]).cwiseMax(kInteriorBary);
   b /= b.sum();
-  return b[0] * layout[0] + b[1] * layout[1] + b[2] * layout[2];
+  return from_barycentric(b, layout);
 }
 
 void SurfaceMap::set_location(int v, int face, const std::array<Vec2, 3>& layout, const Vec2& p) {
