@@ -586,6 +586,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         fragment.summable =
             fragment.moments.add({fragment.chart[0], fragment.chart[1], fragment.chart[2]},
                                  {fragment.other[0], fragment.other[1], fragment.other[2]});
+      fragment.set_box();
       chart.fragments.push_back(std::move(fragment));
     }
     chart.chord_of.clear();
@@ -741,6 +742,46 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
 
 // ---------------------------------------------------------------- evaluation
 
+namespace {
+
+/// A new crossing of an inner edge with a chord, in evaluate().
+struct SpokeHit {
+  double u;  // along the spoke
+  int node;
+  int chord;
+  double lambda;  // along the chord
+};
+
+/// Resizes a list of lists to n, each empty (their storage kept).
+template <class T>
+void reset_lists(std::vector<std::vector<T>>& lists, std::size_t n) {
+  lists.resize(n);
+  for (auto& list : lists) list.clear();
+}
+
+/// evaluate()'s work arrays, kept between calls (one set per thread): an
+/// optimisation evaluates its chart some forty times (its line searches),
+/// and allocating them afresh each time was nearly a quarter of the
+/// refinement's instructions.
+struct EvaluateBuffers {
+  std::vector<Vec2> pos;
+  std::vector<int> inner_node, inner_fragment;
+  std::vector<Place> place, s_place;
+  std::vector<std::vector<SpokeHit>> spoke_hits;
+  std::vector<std::vector<std::pair<double, int>>> chord_hits, spoke_chain;
+  std::vector<char> chord_used, is_kink, cut;
+  std::vector<std::pair<int, int>> kink_fragment;
+  std::vector<std::array<int, 2>> spoke_segments, segments;
+  std::vector<std::array<Vec2, 3>> tri_chart, tri_layout;
+  std::vector<int> common, faces, node_chord, node_fragment, segment_fragment, split;
+  std::vector<StretchMoments> per_tri;
+  std::vector<double> part;
+  std::vector<Vec2> corners;
+  MetaPiece piece;
+};
+
+}  // namespace
+
 double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Proposal* out) const {
   const int s = chart.s, t = chart.t;
   const MetaSide& S = meta_.side[s];
@@ -750,11 +791,13 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     chart_failure_ = 1000 + where;
     return HUGE_VAL;
   };
+  thread_local EvaluateBuffers buffers;
   // Chart points: anchors, then inner vertices that are not on an anchor.
-  std::vector<Vec2> pos;
-  pos.reserve(A + layout.inner.size() + 16);
+  auto& pos = buffers.pos;
+  pos.clear();
   for (const auto& a : chart.anchors) pos.push_back(a.pos);
-  std::vector<int> inner_node(layout.inner.size());
+  auto& inner_node = buffers.inner_node;
+  inner_node.assign(layout.inner.size(), 0);
   for (std::size_t k = 0; k < layout.inner.size(); ++k) {
     if (layout.inner[k].on_anchor >= 0) {
       inner_node[k] = layout.inner[k].on_anchor;
@@ -782,10 +825,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   }
 
   // Where each point lies on t.
-  std::vector<Place> place(A);
+  auto& place = buffers.place;
+  place.assign(A, Place{});
   for (std::size_t i = 0; i < A; ++i) place[i] = chart.anchors[i].node.place[t];
   place.resize(pos.size());
-  std::vector<int> inner_fragment(layout.inner.size(), -1);
+  auto& inner_fragment = buffers.inner_fragment;
+  inner_fragment.assign(layout.inner.size(), -1);
   for (std::size_t k = 0; k < layout.inner.size(); ++k) {
     if (layout.inner[k].on_anchor >= 0) continue;
     const Vec2& p = layout.inner[k].pos;
@@ -796,7 +841,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       q = p;
     } else {
       for (std::size_t j = 0; j < chart.fragments.size(); ++j)
-        if (inside_polygon(chart.fragments[j].chart, p)) {
+        if (chart.fragments[j].contains(p)) {
           face = chart.fragments[j].face;
           q = cell_image(chart.fragments[j], p);
           inner_fragment[k] = int(j);
@@ -811,16 +856,13 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   }
 
   // New crossings of the inner edges with the chords.
-  struct Hit {
-    double u;  // along the spoke
-    int node;
-    int chord;
-    double lambda;  // along the chord
-  };
-  std::vector<std::vector<Hit>> spoke_hits(layout.spokes.size());
-  std::vector<std::vector<std::pair<double, int>>> chord_hits(chart.chords.size());
-  std::vector<char> chord_used(chart.chords.size(), 1);
-  std::vector<double> spoke_param;  // per new node: parameter along its spoke's edge
+  using Hit = SpokeHit;
+  auto& spoke_hits = buffers.spoke_hits;
+  reset_lists(spoke_hits, layout.spokes.size());
+  auto& chord_hits = buffers.chord_hits;
+  reset_lists(chord_hits, chart.chords.size());
+  auto& chord_used = buffers.chord_used;
+  chord_used.assign(chart.chords.size(), 1);
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     const int na = node_of(layout.spokes[i].a), nb = node_of(layout.spokes[i].b);
     const Vec2 P = pos[na], Q = pos[nb];
@@ -862,9 +904,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // through a cell of t's content that is not convex on t (paper §5.1,
   // Figure 4: there a straight segment on t could leave the cell, so the
   // edge follows the cell's triangulation and bends at its diagonals).
-  std::vector<std::vector<std::pair<double, int>>> spoke_chain(layout.spokes.size());
-  std::vector<char> is_kink;
-  std::vector<std::pair<int, int>> kink_fragment;  // kink node, the fragment it bends in
+  auto& spoke_chain = buffers.spoke_chain;
+  reset_lists(spoke_chain, layout.spokes.size());
+  auto& is_kink = buffers.is_kink;
+  auto& kink_fragment = buffers.kink_fragment;  // kink node, the fragment it bends in
+  kink_fragment.clear();
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     auto& hits = spoke_hits[i];
     std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.u < b.u; });
@@ -881,7 +925,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
         for (const int curved : chart.curved) {
           const Chart::Fragment& fragment = chart.fragments[curved];
-          if (!inside_polygon(fragment.chart, mid)) continue;
+          if (!fragment.contains(mid)) continue;
           // The segment's ends mapped to t; where it bends there, as the
           // options' kink rule says (paper §5.1: only where a straight
           // segment between them would leave the cell).
@@ -929,13 +973,15 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           return eval_fail(95);
     }
   }
-  std::vector<Place> s_place(pos.size());  // places on s of the new crossings and kinks
+  auto& s_place = buffers.s_place;  // places on s of the new crossings and kinks
+  s_place.assign(pos.size(), Place{});
   is_kink.assign(pos.size(), 0);
   for (std::size_t i = 0; i < layout.spokes.size(); ++i)
     for (const auto& [u, node] : spoke_chain[i])
       if (node >= int(A + layout.inner.size()) && place[node].kind == Place::face)
         is_kink[node] = 1;
-  std::vector<std::array<int, 2>> spoke_segments;
+  auto& spoke_segments = buffers.spoke_segments;
+  spoke_segments.clear();
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     const int e = layout.spokes[i].edge;
     const int first_vertex = layout.spokes[i].a >= 0 ? chart.ring[layout.spokes[i].a]
@@ -969,7 +1015,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   };
 
   // The face of s each triangle of the layout is, for locating cells.
-  std::vector<std::array<Vec2, 3>> tri_chart, tri_layout;
+  auto &tri_chart = buffers.tri_chart, &tri_layout = buffers.tri_layout;
+  tri_chart.clear();
+  tri_layout.clear();
   for (const auto& tri : layout.tris) {
     tri_chart.push_back(
         {pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])], pos[node_of(tri.ref[2])]});
@@ -997,8 +1045,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // The energy of one cell (its points counter-clockwise, a point inside
   // it, and t's face holding it with its corners there when known);
   // HUGE_VAL if it cannot be placed.
-  std::vector<int> common, faces;
-  MetaPiece piece;
+  auto &common = buffers.common, &faces = buffers.faces;
+  MetaPiece& piece = buffers.piece;
   auto cell_energy = [&](const std::vector<int>& cell, const Vec2& inside, int known_face,
                          const std::vector<Vec2>* known_corners) {
     const std::size_t n = cell.size();
@@ -1037,7 +1085,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       }
       int h_found = -1;
       for (int h : common) {
-        std::vector<Vec2> other;
+        std::vector<Vec2>& other = piece.corner[t];
+        other.clear();
         for (int c : cell) {
           const auto p = place_in_face(meta_, t, h, place[c]);
           if (!p) break;
@@ -1048,7 +1097,6 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         if (!(a > 0)) continue;
         h_found = h;
         piece.face[t] = h;
-        piece.corner[t] = std::move(other);
         piece.area[t] = a;
         break;
       }
@@ -1059,7 +1107,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   };
   auto cells_area = [&](const std::vector<std::vector<int>>& cells) {
     double covered = 0;
-    std::vector<Vec2> corners;
+    std::vector<Vec2>& corners = buffers.corners;
     for (const auto& cell : cells) {
       corners.clear();
       for (int c : cell) corners.push_back(pos[c]);
@@ -1085,12 +1133,15 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   bool summed = false;
   if (chart.kind == Chart::general && chart.fragments.size() >= 24) {
     const std::size_t F = chart.fragments.size();
-    std::vector<char> cut(F, 0);
+    auto& cut = buffers.cut;
+    cut.assign(F, 0);
     std::size_t n_cut = 0;
     auto mark = [&](int f) {
       if (f >= 0 && !cut[f]) cut[f] = 1, ++n_cut;
     };
-    std::vector<int> node_chord(pos.size(), -1), node_fragment(pos.size(), -1);
+    auto &node_chord = buffers.node_chord, &node_fragment = buffers.node_fragment;
+    node_chord.assign(pos.size(), -1);
+    node_fragment.assign(pos.size(), -1);
     for (const auto& hits : spoke_hits)
       for (const Hit& h : hits) node_chord[h.node] = h.chord;
     for (const auto& [node, f] : kink_fragment) node_fragment[node] = f;
@@ -1101,7 +1152,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     bool located = true;
     // Each piece of an inner edge: the fragment it runs through, or -2 - c
     // when it runs along chord c (between two fragments).
-    std::vector<int> segment_fragment(spoke_segments.size(), -1);
+    auto& segment_fragment = buffers.segment_fragment;
+    segment_fragment.assign(spoke_segments.size(), -1);
     for (std::size_t k = 0; k < spoke_segments.size() && located; ++k) {
       const auto [a, b] = spoke_segments[k];
       const auto it = chart.chord_of.find(undirected_edge_key(a, b));
@@ -1113,14 +1165,14 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       int found = -1;
       for (int node : {a, b}) {
         if (node_fragment[node] >= 0 && found < 0 &&
-            inside_polygon(chart.fragments[node_fragment[node]].chart, mid))
+            chart.fragments[node_fragment[node]].contains(mid))
           found = node_fragment[node];
         if (node_chord[node] >= 0)
           for (int f : chart.chord_fragments[node_chord[node]])
-            if (f >= 0 && found < 0 && inside_polygon(chart.fragments[f].chart, mid)) found = f;
+            if (f >= 0 && found < 0 && chart.fragments[f].contains(mid)) found = f;
       }
       for (std::size_t f = 0; f < F && found < 0; ++f)
-        if (inside_polygon(chart.fragments[f].chart, mid)) found = int(f);
+        if (chart.fragments[f].contains(mid)) found = int(f);
       if (found < 0) located = false;
       segment_fragment[k] = found;
       mark(found);
@@ -1129,9 +1181,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // The triangles of t inside the ring: their stretch summed per face
       // of s (one affine map of the chart to s each), a cut one shared by
       // the areas of its parts. The other cut fragments: their cells.
-      std::vector<StretchMoments> per_tri(tri_chart.size());
-      std::vector<double> part(tri_chart.size());
-      std::vector<int> split;
+      auto& per_tri = buffers.per_tri;
+      per_tri.assign(tri_chart.size(), StretchMoments{});
+      auto& part = buffers.part;
+      part.assign(tri_chart.size(), 0.0);
+      auto& split = buffers.split;
+      split.clear();
       sum = 0;
       for (std::size_t f = 0; f < F && sum < HUGE_VAL; ++f) {
         const auto& fragment = chart.fragments[f];
@@ -1142,7 +1197,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         } else if (fragment.summable) {
           double covered = 0;
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
-            covered += part[i] = polygon_area(clip_to_triangle(fragment.chart, tri_chart[i]));
+            covered += part[i] = clipped_area(fragment.chart, tri_chart[i]);
           if (!(std::abs(covered - fragment.moments.area) <= 1e-9 * fragment.moments.area)) {
             split.push_back(int(f));
             continue;
@@ -1165,7 +1220,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // Each fragment to cut: its sides (split at the new crossings) and the
       // pieces of inner edges in it, cut into cells.
       summed = true;
-      std::vector<std::array<int, 2>> segments;
+      auto& segments = buffers.segments;
       for (const int f : split) {
         const auto& fragment = chart.fragments[f];
         segments.clear();

@@ -398,16 +398,21 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
     if (x >= 0) return y / t;
     return lower ? -2 - y / t : 2 - y / t;
   };
+  // Work arrays kept per thread (charts call this thousands of times).
+  thread_local std::vector<int> first, fill, cell;
+  thread_local std::vector<std::pair<double, int>> around;
+  thread_local std::vector<char> done;
+  thread_local std::vector<Vec2> corners;
   // All neighbour lists in one array: node u's at [first[u], first[u + 1]).
-  std::vector<int> first(n + 1, 0);
+  first.assign(n + 1, 0);
   for (const auto& [u, v] : segments) {
     if (u == v) return fail("an edge of the other mesh has no length in it");
     ++first[u + 1], ++first[v + 1];
   }
   for (std::size_t u = 0; u < n; ++u) first[u + 1] += first[u];
-  std::vector<std::pair<double, int>> around(2 * segments.size());
+  around.resize(2 * segments.size());
   {
-    std::vector<int> fill(first.begin(), first.end() - 1);
+    fill.assign(first.begin(), first.end() - 1);
     for (const auto& [u, v] : segments) {
       const Vec2 d = position[v] - position[u];
       around[fill[u]++] = {pseudo_angle(d), v};
@@ -425,11 +430,10 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
   }
   // Each directed segment bounds the cell on its left; the next one turns
   // as far right as possible (the first neighbour clockwise of the way back).
-  std::vector<char> done(around.size(), 0);
+  done.assign(around.size(), 0);
   int outer = 0;
   std::vector<std::vector<int>> cells;
-  std::vector<int> cell;
-  std::vector<Vec2> corners;
+  cells.reserve(segments.size());
   for (std::size_t u0 = 0; u0 < n; ++u0)
     for (int j0 = first[u0]; j0 < first[u0 + 1]; ++j0) {
       if (done[j0]) continue;

@@ -4,21 +4,40 @@
 
 namespace ism {
 
+namespace {
+
+/// One step of the clipping: the part of `in` left of (or on) a -> b.
+void clip_by_line(const std::vector<Vec2>& in, const Vec2& a, const Vec2& b,
+                  std::vector<Vec2>& out) {
+  out.clear();
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const Vec2& p = in[i];
+    const Vec2& q = in[(i + 1) % in.size()];
+    const double sp = orient(a, b, p), sq = orient(a, b, q);
+    if (sp >= 0) out.push_back(p);
+    if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
+  }
+}
+
+}  // namespace
+
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle) {
+  std::vector<Vec2> out;
   for (int k = 0; k < 3 && !polygon.empty(); ++k) {
-    const Vec2& a = triangle[k];
-    const Vec2& b = triangle[(k + 1) % 3];
-    std::vector<Vec2> out;
-    for (std::size_t i = 0; i < polygon.size(); ++i) {
-      const Vec2& p = polygon[i];
-      const Vec2& q = polygon[(i + 1) % polygon.size()];
-      const double sp = orient(a, b, p), sq = orient(a, b, q);
-      if (sp >= 0) out.push_back(p);
-      if ((sp >= 0) != (sq >= 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
-    }
-    polygon = std::move(out);
+    clip_by_line(polygon, triangle[k], triangle[(k + 1) % 3], out);
+    std::swap(polygon, out);
   }
   return polygon;
+}
+
+double clipped_area(const std::vector<Vec2>& polygon, const std::array<Vec2, 3>& triangle) {
+  thread_local std::vector<Vec2> one, two;
+  clip_by_line(polygon, triangle[0], triangle[1], one);
+  if (one.empty()) return polygon_area(one);
+  clip_by_line(one, triangle[1], triangle[2], two);
+  if (two.empty()) return polygon_area(two);
+  clip_by_line(two, triangle[2], triangle[0], one);
+  return polygon_area(one);
 }
 
 bool for_each_piece(const SurfaceMap& map, int t,

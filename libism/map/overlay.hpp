@@ -22,5 +22,8 @@ bool for_each_piece(const SurfaceMap& map, int t,
 
 /// Convex polygon clipped by the triangle (a, b, c), counter-clockwise.
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle);
+/// polygon_area(clip_to_triangle(polygon, triangle)), the same number,
+/// without allocating (work arrays kept per thread).
+double clipped_area(const std::vector<Vec2>& polygon, const std::array<Vec2, 3>& triangle);
 
 }  // namespace ism
