@@ -2,6 +2,7 @@
 #include "map/meta_cut.hpp"   // triangulate_piece
 #include "map/meta_mesh.hpp"  // polygon_area
 
+#include <algorithm>
 #include <cmath>
 
 namespace ism {
@@ -36,6 +37,10 @@ std::optional<ChartCell> make_chart_cell(std::vector<Vec2> chart, std::vector<Ve
   ChartCell cell;
   cell.chart = std::move(chart);
   cell.other = std::move(other);
+  if (!cell.chart.empty()) {
+    cell.lo = cell.hi = cell.chart[0];
+    for (const Vec2& q : cell.chart) cell.lo = cell.lo.cwiseMin(q), cell.hi = cell.hi.cwiseMax(q);
+  }
   const std::size_t n = cell.chart.size();
   if (n > 3) {
     const auto& P = cell.chart;
@@ -87,6 +92,14 @@ bool inside_polygon(const std::vector<Vec2>& poly, const Vec2& p) {
       in = !in;
   }
   return in;
+}
+
+bool inside_cell(const ChartCell& cell, const Vec2& p) {
+  const Vec2 &lo = cell.lo, &hi = cell.hi;
+  if (p.y() < lo.y() || p.y() >= hi.y()) return false;
+  const double margin = 1e-9 * std::max({std::abs(lo.x()), std::abs(hi.x()), hi.x() - lo.x()});
+  if (p.x() > hi.x() + margin || p.x() < lo.x() - margin) return false;
+  return inside_polygon(cell.chart, p);
 }
 
 bool segment_inside_polygon(const std::vector<Vec2>& poly, const Vec2& a, const Vec2& b) {

@@ -24,6 +24,7 @@ struct ChartCell {
   /// first, then added points).
   std::vector<std::array<int, 3>> triangles;
   std::vector<Vec2> tri_chart, tri_other;
+  Vec2 lo{0, 0}, hi{0, 0};  // bounding box of `chart` (set by make_chart_cell)
 };
 
 /// The cell of these corners (same count, both counter-clockwise with
@@ -38,6 +39,10 @@ Vec2 cell_image(const ChartCell& cell, const Vec2& p);
 
 /// Even-odd test of p against a polygon.
 bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& p);
+/// inside_polygon(cell.chart, p), the same answer: the cell's bounding box
+/// first rejects only points whose crossing count is even (y outside
+/// [lo.y, hi.y), or x beyond the box by far more than rounding).
+bool inside_cell(const ChartCell& cell, const Vec2& p);
 
 /// Whether the straight segment ab (ends on or inside the simple polygon)
 /// stays inside it: it crosses no side, passes through no corner between

@@ -80,20 +80,6 @@ struct InterSurfaceMap::Chart {
     /// stretch sums with others in the same face of s (StretchMoments).
     bool summable = false;
     StretchMoments moments;
-    Vec2 lo, hi;  // the chart polygon's bounding box (set_box)
-    void set_box() {
-      lo = hi = chart[0];
-      for (const Vec2& q : chart) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-    }
-    /// inside_polygon(chart, p), the same answer: the box test first rejects
-    /// only points whose crossing count is even (y outside [lo.y, hi.y), or x
-    /// beyond the box by far more than rounding).
-    bool contains(const Vec2& p) const {
-      if (p.y() < lo.y() || p.y() >= hi.y()) return false;
-      const double margin = 1e-9 * std::max({std::abs(lo.x()), std::abs(hi.x()), hi.x() - lo.x()});
-      if (p.x() > hi.x() + margin || p.x() < lo.x() - margin) return false;
-      return inside_polygon(chart, p);
-    }
   };
   std::vector<Fragment> fragments;
   /// Per chord: the fragments on its two sides (-1 where none).

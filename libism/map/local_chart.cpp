@@ -586,7 +586,6 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         fragment.summable =
             fragment.moments.add({fragment.chart[0], fragment.chart[1], fragment.chart[2]},
                                  {fragment.other[0], fragment.other[1], fragment.other[2]});
-      fragment.set_box();
       chart.fragments.push_back(std::move(fragment));
     }
     chart.chord_of.clear();
@@ -772,7 +771,7 @@ struct EvaluateBuffers {
   std::vector<char> chord_used, is_kink, cut;
   std::vector<std::pair<int, int>> kink_fragment;
   std::vector<std::array<int, 2>> spoke_segments, segments;
-  std::vector<std::array<Vec2, 3>> tri_chart, tri_layout;
+  std::vector<std::array<Vec2, 3>> tri_chart;
   std::vector<int> common, faces, node_chord, node_fragment, segment_fragment, split;
   std::vector<StretchMoments> per_tri;
   std::vector<double> part;
@@ -841,7 +840,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       q = p;
     } else {
       for (std::size_t j = 0; j < chart.fragments.size(); ++j)
-        if (chart.fragments[j].contains(p)) {
+        if (inside_cell(chart.fragments[j], p)) {
           face = chart.fragments[j].face;
           q = cell_image(chart.fragments[j], p);
           inner_fragment[k] = int(j);
@@ -925,7 +924,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const Vec2 mid = 0.5 * (pos[chain[j].second] + pos[chain[j + 1].second]);
         for (const int curved : chart.curved) {
           const Chart::Fragment& fragment = chart.fragments[curved];
-          if (!fragment.contains(mid)) continue;
+          if (!inside_cell(fragment, mid)) continue;
           // The segment's ends mapped to t; where it bends there, as the
           // options' kink rule says (paper §5.1: only where a straight
           // segment between them would leave the cell).
@@ -1015,13 +1014,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   };
 
   // The face of s each triangle of the layout is, for locating cells.
-  auto &tri_chart = buffers.tri_chart, &tri_layout = buffers.tri_layout;
+  auto& tri_chart = buffers.tri_chart;
   tri_chart.clear();
-  tri_layout.clear();
   for (const auto& tri : layout.tris) {
     tri_chart.push_back(
         {pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])], pos[node_of(tri.ref[2])]});
-    tri_layout.push_back(tri.shape);
     if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
       return eval_fail(140);
   }
@@ -1054,7 +1051,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     if (ti < 0) return eval_fail(171);
     piece.corner[s].clear();
     const auto& tc = tri_chart[ti];
-    const auto& tl = tri_layout[ti];
+    const auto& tl = layout.tris[ti].shape;
     for (int c : cell) {
       // Anchors on the ring's edges: exactly where their records put them.
       if (c < int(A) && chart.anchors[c].node.place[s].kind == Place::edge) {
@@ -1165,14 +1162,14 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       int found = -1;
       for (int node : {a, b}) {
         if (node_fragment[node] >= 0 && found < 0 &&
-            chart.fragments[node_fragment[node]].contains(mid))
+            inside_cell(chart.fragments[node_fragment[node]], mid))
           found = node_fragment[node];
         if (node_chord[node] >= 0)
           for (int f : chart.chord_fragments[node_chord[node]])
-            if (f >= 0 && found < 0 && chart.fragments[f].contains(mid)) found = f;
+            if (f >= 0 && found < 0 && inside_cell(chart.fragments[f], mid)) found = f;
       }
       for (std::size_t f = 0; f < F && found < 0; ++f)
-        if (chart.fragments[f].contains(mid)) found = int(f);
+        if (inside_cell(chart.fragments[f], mid)) found = int(f);
       if (found < 0) located = false;
       segment_fragment[k] = found;
       mark(found);
@@ -1213,7 +1210,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       if (!(sum < HUGE_VAL)) return HUGE_VAL;
       for (std::size_t i = 0; i < per_tri.size(); ++i) {
         if (!(per_tri[i].area > 0)) continue;
-        const auto [x, y] = per_tri[i].evaluate(affine_linear_part(tri_chart[i], tri_layout[i]));
+        const auto [x, y] =
+            per_tri[i].evaluate(affine_linear_part(tri_chart[i], layout.tris[i].shape));
         if (!(x < HUGE_VAL)) return eval_fail(182);
         sum += s == 0 ? stretch_energy(x, y, terms) : stretch_energy(y, x, terms);
       }
