@@ -9,6 +9,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace ism {
@@ -104,7 +105,7 @@ inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
 /// Signed area of a polygon (shoelace): positive when counter-clockwise.
-inline double polygon_area(const std::vector<Vec2>& polygon) {
+inline double polygon_area(std::span<const Vec2> polygon) {
   double twice = 0.0;
   for (std::size_t i = 0; i < polygon.size(); ++i) {
     const Vec2& a = polygon[i];

@@ -822,6 +822,31 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     }
     return sum;
   }
+  if (chart.kind == Chart::fast) {
+    // One face of t holds the ring and all it moves: the layout's triangles
+    // are the pieces (each in that face), the inner edges cross nothing, and
+    // the proposal is the inner vertices' places in the face.
+    const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[chart.single_face]);
+    *out = Proposal{};
+    for (const auto& in : layout.inner) {
+      if (in.on_anchor >= 0) continue;
+      const Eigen::Vector3d b = barycentric(in.pos, L[0], L[1], L[2]);
+      if (b.minCoeff() < layout.clearance) return eval_fail(96);  // too close to an edge of t
+      out->locations[0].push_back({in.vertex, MetaLocation{-1, chart.single_face, b / b.sum()}});
+    }
+    double sum = 0;
+    for (const auto& tri : layout.tris) {
+      const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
+                                  pos[node_of(tri.ref[2])]};
+      if (!(orient(q[0], q[1], q[2]) > 0)) return eval_fail(140);
+      double e;
+      sides(tri.shape, q, e);
+      sum += e;
+      if (!(sum < HUGE_VAL)) return eval_fail(31);
+    }
+    for (const auto& spoke : layout.spokes) out->lists.push_back({spoke.edge, {}});
+    return sum;
+  }
 
   // Where each point lies on t.
   auto& place = buffers.place;
@@ -865,15 +890,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
     const int na = node_of(layout.spokes[i].a), nb = node_of(layout.spokes[i].b);
     const Vec2 P = pos[na], Q = pos[nb];
-    bool coincident = false;
-    for (std::size_t c = 0; c < chart.chords.size(); ++c) {
-      const auto& chord = chart.chords[c];
-      if ((chord.a == na && chord.b == nb) || (chord.a == nb && chord.b == na)) {
-        chord_used[c] = 0;  // the edge of t runs along this inner edge
-        coincident = true;
-      }
+    // (make_fragments' planar cells admit one chord per pair of anchors.)
+    if (const auto it = chart.chord_of.find(undirected_edge_key(na, nb));
+        it != chart.chord_of.end()) {
+      chord_used[it->second] = 0;  // the edge of t runs along this inner edge
+      continue;
     }
-    if (coincident) continue;
     for (std::size_t c = 0; c < chart.chords.size(); ++c) {
       const auto& chord = chart.chords[c];
       if (chord.a == na || chord.a == nb || chord.b == na || chord.b == nb) continue;

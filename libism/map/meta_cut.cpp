@@ -199,6 +199,57 @@ std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f, const P
 
 // ---------------------------------------------------------------- cutting a face
 
+namespace {
+
+int best_fan(std::span<const Vec2> P, std::span<const Vec2> Q);
+
+/// A face of one side lying inside one face of the other (its corners in
+/// that face, no break on its edges, nothing of the other side inside): the
+/// one piece the general cut finds, its corners counter-clockwise from the
+/// smallest key (the smallest vertex).
+struct WholeFace {
+  int face = -1;  // the face of the other side holding it
+  std::array<NodeKey, 3> nodes;
+  std::array<std::array<Vec2, 3>, 2> corner;  // on side 0, on side 1
+};
+
+bool whole_face(const MetaMesh& meta, const MetaIndex& index, int s, int f,
+                const std::array<Vec2, 3>& L, WholeFace& out) {
+  const MetaSide& S = meta.side[s];
+  const Triangle& tri = S.faces[f];
+  const int h = S.location[tri[0]].face;
+  if (!(h >= 0 && S.location[tri[1]].face == h && S.location[tri[2]].face == h &&
+        index[s].residents[f].empty() && S.crossings[S.face_edges[f][0]].empty() &&
+        S.crossings[S.face_edges[f][1]].empty() && S.crossings[S.face_edges[f][2]].empty()))
+    return false;
+  const MetaSide& T = meta.side[1 - s];
+  const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
+  const int first = tri[0] < tri[1] ? (tri[0] < tri[2] ? 0 : 2) : (tri[1] < tri[2] ? 1 : 2);
+  out.face = h;
+  for (int i = 0; i < 3; ++i) {
+    const int k = (first + i) % 3;
+    const MetaNode node = vertex_node(meta, s, tri[k]);
+    out.nodes[i] = node.key;
+    out.corner[s][i] = L[k];
+    out.corner[1 - s][i] = *place_in_layout(T, h, Lh, node.place[1 - s]);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::optional<double> whole_face_energy(const MetaMesh& meta, const MetaIndex& index, int s, int f,
+                                        const EnergyTerms& terms) {
+  WholeFace whole;
+  if (!whole_face(meta, index, s, f, meta_face_layout(meta.side[s].lengths[f]), whole))
+    return std::nullopt;
+  const auto &P = whole.corner[0], &Q = whole.corner[1];
+  if (!(polygon_area(P) > 0) || !(polygon_area(Q) > 0)) return std::nullopt;
+  // piece_energy of a triangle: its own fan when positive on both sides.
+  if (best_fan(P, Q) < 0) return HUGE_VAL;
+  return 0.0 + triangle_energy(P, Q, terms);
+}
+
 FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   FaceCut out;
   const MetaSide& S = meta.side[s];
@@ -212,27 +263,14 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
     return out;
   };
 
-  // A face lying inside one face h of the other side (its corners in h, no
-  // break on its edges, nothing of the other side inside) is one piece:
-  // the same piece the general cut below finds, without cutting.
-  if (const int h = S.location[S.faces[f][0]].face;
-      h >= 0 && S.location[S.faces[f][1]].face == h && S.location[S.faces[f][2]].face == h &&
-      index[s].residents[f].empty() && S.crossings[S.face_edges[f][0]].empty() &&
-      S.crossings[S.face_edges[f][1]].empty() && S.crossings[S.face_edges[f][2]].empty()) {
-    const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
+  if (WholeFace whole; whole_face(meta, index, s, f, L, whole)) {
     MetaPiece piece;
-    // Corners counter-clockwise from the smallest key (the smallest vertex).
-    const Triangle& tri = S.faces[f];
-    const int first = tri[0] < tri[1] ? (tri[0] < tri[2] ? 0 : 2) : (tri[1] < tri[2] ? 1 : 2);
     for (int i = 0; i < 3; ++i) {
-      const int k = (first + i) % 3;
-      const MetaNode node = vertex_node(meta, s, tri[k]);
-      piece.nodes.push_back(node.key);
-      piece.corner[s].push_back(L[k]);
-      piece.corner[1 - s].push_back(*place_in_layout(T, h, Lh, node.place[1 - s]));
+      piece.nodes.push_back(whole.nodes[i]);
+      for (int side = 0; side < 2; ++side) piece.corner[side].push_back(whole.corner[side][i]);
     }
     piece.face[s] = f;
-    piece.face[1 - s] = h;
+    piece.face[1 - s] = whole.face;
     piece.area[s] = polygon_area(piece.corner[s]);
     piece.area[1 - s] = polygon_area(piece.corner[1 - s]);
     if (!(piece.area[s] > 0)) return fail("a piece with no area");
@@ -559,10 +597,9 @@ PieceTriangulation overlay_triangulation(const std::vector<Vec2>& P, const std::
 // area there (from the corners themselves: the result depends on nothing
 // else); positive when it is positive on both.
 struct PieceQuality {
-  const std::vector<Vec2>& P;
-  const std::vector<Vec2>& Q;
+  std::span<const Vec2> P, Q;
   double ap, aq;
-  PieceQuality(const std::vector<Vec2>& p, const std::vector<Vec2>& q)
+  PieceQuality(std::span<const Vec2> p, std::span<const Vec2> q)
       : P(p), Q(q), ap(std::max(polygon_area(p), 1e-300)), aq(std::max(polygon_area(q), 1e-300)) {}
   double operator()(int a, int b, int c) const {
     return std::min(orient(P[a], P[b], P[c]) / ap, orient(Q[a], Q[b], Q[c]) / aq);
@@ -576,7 +613,7 @@ struct PieceQuality {
 // apex from the corner with the smallest side-0 position on, so the winner
 // does not depend on how the corners are keyed (a meta-mesh file read back
 // numbers its edges, so its keys, anew). A triangle is its own fan (apex 0).
-int best_fan(const std::vector<Vec2>& P, const std::vector<Vec2>& Q) {
+int best_fan(std::span<const Vec2> P, std::span<const Vec2> Q) {
   const int n = int(P.size());
   const PieceQuality quality(P, Q);
   if (n == 3) return quality(0, 1, 2) > 0 ? 0 : -1;

@@ -176,5 +176,12 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
+/// The energy of face f of `side` when it is one piece (inside one face of
+/// the other side: corners there, no break on its edges, nothing of the
+/// other side inside, positive on both sides): bit for bit the sum of
+/// piece_energy over cut_face's pieces, without building them. Nothing when
+/// the face is not such a piece (cut it).
+std::optional<double> whole_face_energy(const MetaMesh& meta, const MetaIndex& index, int side,
+                                        int f, const EnergyTerms& terms);
 
 }  // namespace ism
