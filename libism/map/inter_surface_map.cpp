@@ -221,15 +221,11 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
   const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
   double sum = 0;
   for (int f : faces) {
-    if (energy)
-      if (const auto whole = whole_face_energy(meta_, index_, s, f, terms)) {
-        sum += *whole;
-        continue;
-      }
-    FaceCut cut = cut_face(meta_, index_, s, f);
-    if (cut.error) return cut.error;
-    if (energy)
-      for (const MetaPiece& p : cut.pieces) sum += piece_energy(p, terms);
+    if (energy) {
+      if (auto problem = add_face_energy(meta_, index_, s, f, terms, sum)) return problem;
+    } else if (FaceCut cut = cut_face(meta_, index_, s, f); cut.error) {
+      return cut.error;
+    }
   }
   if (energy) *energy = sum;
   return std::nullopt;

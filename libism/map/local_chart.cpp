@@ -30,7 +30,7 @@ Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
 
 /// A point inside a simple counter-clockwise polygon (corners pos[cell[i]]):
 /// the centroid of one of its ears; nothing if it has none.
-std::optional<Vec2> ear_point(const std::vector<Vec2>& pos, const std::vector<int>& cell) {
+std::optional<Vec2> ear_point(const std::vector<Vec2>& pos, std::span<const int> cell) {
   const std::size_t n = cell.size();
   for (std::size_t i = 0; i < n; ++i) {
     const Vec2 &a = pos[cell[(i + n - 1) % n]], &b = pos[cell[i]], &c = pos[cell[(i + 1) % n]];
@@ -543,10 +543,11 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     for (std::size_t i = 0; i < nb; ++i)
       segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
     for (const auto& c : chart.chords) segments.push_back({c.a, c.b});
-    const auto cells = planar_cells(position, segments);
-    if (!cells) return chart_fail(401);
+    PlanarCells cells;
+    if (!planar_cells(position, segments, cells)) return chart_fail(401);
     std::vector<int> common;
-    for (const auto& cell : *cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::span<const int> cell = cells[i];
       Chart::Fragment fragment;
       place_faces(meta_, index_, t, chart.anchors[cell[0]].node.place[t], common);
       for (std::size_t i = 1; i < cell.size(); ++i) {
@@ -579,7 +580,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       const auto inside = ear_point(position, cell);
       if (!inside) return chart_fail(404);
       fragment.inside = *inside;
-      fragment.nodes = cell;
+      fragment.nodes.assign(cell.begin(), cell.end());
       fragment.summable = cell.size() == 3 && fragment.affine;
       for (int c : cell) fragment.summable &= chart.anchors[c].node.place[s].kind != Place::edge;
       if (fragment.summable)
@@ -777,6 +778,7 @@ struct EvaluateBuffers {
   std::vector<double> part;
   std::vector<Vec2> corners;
   MetaPiece piece;
+  PlanarCells cells;
 };
 
 }  // namespace
@@ -1066,7 +1068,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // HUGE_VAL if it cannot be placed.
   auto &common = buffers.common, &faces = buffers.faces;
   MetaPiece& piece = buffers.piece;
-  auto cell_energy = [&](const std::vector<int>& cell, const Vec2& inside, int known_face,
+  PlanarCells& cells = buffers.cells;
+  auto cell_energy = [&](std::span<const int> cell, const Vec2& inside, int known_face,
                          const std::vector<Vec2>* known_corners) {
     const std::size_t n = cell.size();
     const int ti = tri_of(inside);
@@ -1124,19 +1127,21 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const double e = piece_energy(piece, terms);
     return e < HUGE_VAL ? e : eval_fail(207);
   };
-  auto cells_area = [&](const std::vector<std::vector<int>>& cells) {
-    double covered = 0;
+  auto cell_area = [&](std::span<const int> cell) {
     std::vector<Vec2>& corners = buffers.corners;
-    for (const auto& cell : cells) {
-      corners.clear();
-      for (int c : cell) corners.push_back(pos[c]);
-      covered += polygon_area(corners);
-    }
+    corners.clear();
+    for (int c : cell) corners.push_back(pos[c]);
+    return polygon_area(corners);
+  };
+  auto cells_area = [&](const PlanarCells& cells) {
+    double covered = 0;
+    for (std::size_t i = 0; i < cells.size(); ++i) covered += cell_area(cells[i]);
     return covered;
   };
-  auto cells_energy = [&](const std::vector<std::vector<int>>& cells) {
+  auto cells_energy = [&](const PlanarCells& cells) {
     double total = 0;
-    for (const auto& cell : cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::span<const int> cell = cells[i];
       const auto inside = ear_point(pos, cell);
       if (!inside) return eval_fail(169);
       total += cell_energy(cell, *inside, -1, nullptr);
@@ -1255,13 +1260,13 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const auto& nodes = fragment.nodes;
         for (std::size_t k = 0; k < nodes.size(); ++k)
           add_side(nodes[k], nodes[(k + 1) % nodes.size()], segments);
-        const auto cells = planar_cells(pos, segments);
+        const bool cut = planar_cells(pos, segments, cells);
         const double area = polygon_area(fragment.chart);
-        if (!cells || !(std::abs(cells_area(*cells) - area) <= 1e-9 * area)) {
+        if (!cut || !(std::abs(cells_area(cells) - area) <= 1e-9 * area)) {
           summed = false;  // the whole ring, below
           break;
         }
-        sum += cells_energy(*cells);
+        sum += cells_energy(cells);
         if (!(sum < HUGE_VAL)) return HUGE_VAL;
       }
     }
@@ -1273,11 +1278,10 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
     for (std::size_t c = 0; c < chart.chords.size(); ++c)
       add_side(chart.chords[c].a, chart.chords[c].b, segments);
-    const auto cells = planar_cells(pos, segments);
-    if (!cells) return eval_fail(134);
-    const double covered = cells_area(*cells), ring_area = cells_area({chart.boundary_loop});
+    if (!planar_cells(pos, segments, cells)) return eval_fail(134);
+    const double covered = cells_area(cells), ring_area = cell_area(chart.boundary_loop);
     if (!(std::abs(covered - ring_area) <= 1e-9 * ring_area)) return eval_fail(300);  // not planar
-    sum = cells_energy(*cells);
+    sum = cells_energy(cells);
     if (!(sum < HUGE_VAL)) return HUGE_VAL;
   }
   if (!out) return sum;

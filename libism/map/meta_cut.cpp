@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 
 namespace ism {
@@ -238,63 +239,95 @@ bool whole_face(const MetaMesh& meta, const MetaIndex& index, int s, int f,
 
 }  // namespace
 
-std::optional<double> whole_face_energy(const MetaMesh& meta, const MetaIndex& index, int s, int f,
-                                        const EnergyTerms& terms) {
-  WholeFace whole;
-  if (!whole_face(meta, index, s, f, meta_face_layout(meta.side[s].lengths[f]), whole))
-    return std::nullopt;
-  const auto &P = whole.corner[0], &Q = whole.corner[1];
-  if (!(polygon_area(P) > 0) || !(polygon_area(Q) > 0)) return std::nullopt;
-  // piece_energy of a triangle: its own fan when positive on both sides.
-  if (best_fan(P, Q) < 0) return HUGE_VAL;
-  return 0.0 + triangle_energy(P, Q, terms);
-}
+namespace {
 
-FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
-  FaceCut out;
+/// Ids of the meta-vertices met while cutting one face, by key: open
+/// addressing in one array kept between calls (a face of a coarse side
+/// meets thousands, most meet a handful).
+class NodeIds {
+ public:
+  void clear() {
+    slots_.assign(64, {NodeKey{}, -1});
+    used_ = 0;
+  }
+  /// The id of `key`, given `id` (and true) if it is new.
+  std::pair<int, bool> try_emplace(const NodeKey& key, int id) {
+    if (2 * (used_ + 1) > slots_.size()) grow();
+    std::size_t i = find(key);
+    if (slots_[i].second >= 0) return {slots_[i].second, false};
+    slots_[i] = {key, id};
+    ++used_;
+    return {id, true};
+  }
+
+ private:
+  std::size_t find(const NodeKey& key) const {
+    std::uint64_t h = std::uint64_t(std::uint32_t(key.kind)) * 0x9E3779B97F4A7C15ull;
+    for (int x : {key.a, key.b, key.c})
+      h = (h ^ std::uint32_t(x)) * 0xBF58476D1CE4E5B9ull, h ^= h >> 29;
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask)
+      if (slots_[i].second < 0 || slots_[i].first == key) return i;
+  }
+  void grow() {
+    std::vector<std::pair<NodeKey, int>> old(2 * slots_.size(), {NodeKey{}, -1});
+    old.swap(slots_);
+    for (const auto& slot : old)
+      if (slot.second >= 0) slots_[find(slot.first)] = slot;
+  }
+  std::vector<std::pair<NodeKey, int>> slots_;
+  std::size_t used_ = 0;
+};
+
+/// cut_face's work: each piece of face f of side s to `visit` (one
+/// MetaPiece reused, valid during the call), in order; the error naming
+/// the face, if any (pieces visited before it are then void).
+template <class Visit>
+std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& index, int s, int f,
+                                        Visit&& visit) {
   const MetaSide& S = meta.side[s];
   const MetaSide& T = meta.side[1 - s];
   const std::array<Vec2, 3> L = meta_face_layout(S.lengths[f]);
   const double face_area = 0.5 * orient(L[0], L[1], L[2]);
   const double scale = std::sqrt(std::max(face_area, 1e-300));
   auto fail = [&](const std::string& why) {
-    out.error = face_name(s, f) + ": " + why;
-    out.pieces.clear();
-    return out;
+    return std::optional<std::string>(face_name(s, f) + ": " + why);
   };
+  thread_local MetaPiece piece;
 
   if (WholeFace whole; whole_face(meta, index, s, f, L, whole)) {
-    MetaPiece piece;
-    for (int i = 0; i < 3; ++i) {
-      piece.nodes.push_back(whole.nodes[i]);
-      for (int side = 0; side < 2; ++side) piece.corner[side].push_back(whole.corner[side][i]);
-    }
+    piece.nodes.assign(whole.nodes.begin(), whole.nodes.end());
+    for (int side = 0; side < 2; ++side)
+      piece.corner[side].assign(whole.corner[side].begin(), whole.corner[side].end());
     piece.face[s] = f;
     piece.face[1 - s] = whole.face;
     piece.area[s] = polygon_area(piece.corner[s]);
     piece.area[1 - s] = polygon_area(piece.corner[1 - s]);
     if (!(piece.area[s] > 0)) return fail("a piece with no area");
     if (!(piece.area[1 - s] > 0)) return fail("a piece that is folded or torn on the other mesh");
-    out.pieces.push_back(std::move(piece));
-    return out;
+    visit(piece);
+    return std::nullopt;
   }
 
-  std::vector<MetaNode> nodes;
-  std::vector<Vec2> position;
-  std::map<NodeKey, int> local;
-  std::vector<std::array<int, 2>> segments;
+  // Work arrays kept per thread.
+  thread_local std::vector<MetaNode> nodes, chain;
+  thread_local std::vector<Vec2> position, other;
+  thread_local NodeIds local;
+  thread_local std::vector<std::array<int, 2>> segments;
+  thread_local std::vector<int> candidates, cell, faces, common;
+  thread_local PlanarCells cells;
+  nodes.clear(), position.clear(), local.clear(), segments.clear(), candidates.clear();
   std::string error;
   auto add = [&](const MetaNode& n, const Vec2& p) {
-    auto [it, added] = local.try_emplace(n.key, int(nodes.size()));
+    const auto [id, added] = local.try_emplace(n.key, int(nodes.size()));
     if (added) {
       nodes.push_back(n);
       position.push_back(p);
-    } else if ((position[it->second] - p).norm() > 1e-9 * scale && error.empty()) {
+    } else if ((position[id] - p).norm() > 1e-9 * scale && error.empty()) {
       error = "a meta-vertex at two places";
     }
-    return it->second;
+    return id;
   };
-
   // The boundary: corners and the break points of the edges between them.
   for (int k = 0; k < 3; ++k) {
     const int e = S.face_edges[f][k];
@@ -318,7 +351,6 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   const std::size_t boundary_segments = segments.size();
 
   // The other side's edges that can enter the face.
-  std::vector<int> candidates;
   for (int k = 0; k < 3; ++k)
     for (const MetaCrossing& c : S.crossings[S.face_edges[f][k]])
       if (!c.is_kink()) candidates.push_back(c.edge);
@@ -332,7 +364,6 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 
-  std::vector<MetaNode> chain;
   for (int g : candidates) {
     const auto& list = T.crossings[g];
     chain.clear();
@@ -359,15 +390,12 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   (void)boundary_segments;
 
   std::string why;
-  const auto cells = planar_cells(position, segments, &why);
-  if (!cells) return fail(why);
+  if (!planar_cells(position, segments, cells, &why)) return fail(why);
   double total = 0;
-  std::vector<int> cell;
-  std::vector<Vec2> other;
-  std::vector<int> faces, common;
-  for (const std::vector<int>& found_cell : *cells) {
-    cell = found_cell;
-    MetaPiece piece;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    cell.assign(cells[i].begin(), cells[i].end());
+    piece.nodes.clear();
+    piece.corner[s].clear();
     for (int c : cell) piece.corner[s].push_back(position[c]);
     const double area = polygon_area(piece.corner[s]);
     total += area;
@@ -411,19 +439,47 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
       piece.area[1 - s] = a;
     }
     if (found < 0) return fail("a piece that is folded or torn on the other mesh");
-    out.pieces.push_back(std::move(piece));
+    visit(piece);
   }
   if (std::abs(total - face_area) > 1e-9 * face_area)
     return fail("its pieces cover " + std::to_string(total / face_area) + " of it");
+  return std::nullopt;
+}
+
+}  // namespace
+
+FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
+  FaceCut out;
+  out.error = visit_pieces(meta, index, s, f, [&](const MetaPiece& p) { out.pieces.push_back(p); });
+  if (out.error) out.pieces.clear();
   return out;
 }
 
-std::optional<std::vector<std::vector<int>>> planar_cells(
-    const std::vector<Vec2>& position, const std::vector<std::array<int, 2>>& segments,
-    std::string* error) {
+std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex& index, int s,
+                                           int f, const EnergyTerms& terms, double& sum) {
+  {
+    WholeFace whole;
+    if (whole_face(meta, index, s, f, meta_face_layout(meta.side[s].lengths[f]), whole)) {
+      const auto &P = whole.corner[0], &Q = whole.corner[1];
+      if (polygon_area(P) > 0 && polygon_area(Q) > 0) {
+        // piece_energy of a triangle: its own fan when positive on both sides.
+        sum += best_fan(P, Q) < 0 ? HUGE_VAL : 0.0 + triangle_energy(P, Q, terms);
+        return std::nullopt;
+      }
+    }
+  }
+  return visit_pieces(meta, index, s, f,
+                      [&](const MetaPiece& p) { sum += piece_energy(p, terms); });
+}
+
+bool planar_cells(const std::vector<Vec2>& position,
+                  const std::vector<std::array<int, 2>>& segments, PlanarCells& cells,
+                  std::string* error) {
+  cells.nodes.clear();
+  cells.start.assign(1, 0);
   auto fail = [&](const char* why) {
     if (error) *error = why;
-    return std::nullopt;
+    return false;
   };
   const std::size_t n = position.size();
   // Neighbours of each node, counter-clockwise from the direction -pi: by
@@ -470,8 +526,6 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
   // as far right as possible (the first neighbour clockwise of the way back).
   done.assign(around.size(), 0);
   int outer = 0;
-  std::vector<std::vector<int>> cells;
-  cells.reserve(segments.size());
   for (std::size_t u0 = 0; u0 < n; ++u0)
     for (int j0 = first[u0]; j0 < first[u0 + 1]; ++j0) {
       if (done[j0]) continue;
@@ -496,10 +550,11 @@ std::optional<std::vector<std::vector<int>>> planar_cells(
         continue;
       }
       if (!(area > 0)) return fail("a piece with no area");
-      cells.push_back(cell);
+      cells.nodes.insert(cells.nodes.end(), cell.begin(), cell.end());
+      cells.start.push_back(int(cells.nodes.size()));
     }
   if (outer != 1) return fail("the other mesh's edges in it are not connected to its boundary");
-  return cells;
+  return true;
 }
 
 // ---------------------------------------------------------------- triangulation

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -88,14 +89,26 @@ struct FaceCut {
 /// error naming the face.
 FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int side, int f);
 
+/// Cells of a planar graph in one list: cell i is nodes[start[i]] ..
+/// nodes[start[i + 1] - 1], counter-clockwise. Kept by callers between
+/// calls, so that cutting allocates nothing once it has grown.
+struct PlanarCells {
+  std::vector<int> nodes;
+  std::vector<int> start{0};
+  std::size_t size() const { return start.size() - 1; }
+  std::span<const int> operator[](std::size_t i) const {
+    return {nodes.data() + start[i], nodes.data() + start[i + 1]};
+  }
+};
+
 /// The bounded cells of a planar straight-line graph (positions, segments
-/// between them), each as its nodes counter-clockwise, with positive area;
-/// nothing (and `error` set) if a node has fewer than two segments, two
-/// segments join the same nodes, the cells do not close, or there is not
-/// exactly one unbounded cell.
-std::optional<std::vector<std::vector<int>>> planar_cells(
-    const std::vector<Vec2>& position, const std::vector<std::array<int, 2>>& segments,
-    std::string* error = nullptr);
+/// between them), each as its nodes counter-clockwise, with positive area,
+/// into `cells` (replacing what it held); false (and `error` set) if a node
+/// has fewer than two segments, two segments join the same nodes, the cells
+/// do not close, or there is not exactly one unbounded cell.
+bool planar_cells(const std::vector<Vec2>& position,
+                  const std::vector<std::array<int, 2>>& segments, PlanarCells& cells,
+                  std::string* error = nullptr);
 
 /// A triangulation of a piece valid on both sides: triangles index
 /// points[s], the piece's corners first, then points added inside it (the map
@@ -176,12 +189,11 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
-/// The energy of face f of `side` when it is one piece (inside one face of
-/// the other side: corners there, no break on its edges, nothing of the
-/// other side inside, positive on both sides): bit for bit the sum of
-/// piece_energy over cut_face's pieces, without building them. Nothing when
-/// the face is not such a piece (cut it).
-std::optional<double> whole_face_energy(const MetaMesh& meta, const MetaIndex& index, int side,
-                                        int f, const EnergyTerms& terms);
+/// Adds the energy of each piece of face f of `side` to `sum`, in
+/// cut_face's order (bit for bit the sum of piece_energy over its pieces),
+/// without keeping them; cut_face's error if it has one (`sum` is then
+/// void).
+std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex& index, int side,
+                                           int f, const EnergyTerms& terms, double& sum);
 
 }  // namespace ism
