@@ -559,8 +559,9 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       fragment.face = -1;
       for (int h : common) {
         std::vector<Vec2> other;
+        const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
         for (int c : cell) {
-          const auto p = place_in_face(meta_, t, h, chart.anchors[c].node.place[t]);
+          const auto p = place_in_face(meta_, t, h, Lh, chart.anchors[c].node.place[t]);
           if (!p) break;
           other.push_back(*p);
         }
@@ -952,9 +953,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           // The segment's ends mapped to t; where it bends there, as the
           // options' kink rule says (paper §5.1: only where a straight
           // segment between them would leave the cell).
-          const auto a = place_in_face(meta_, t, fragment.face, place[chain[j].second]);
-          const auto b = place_in_face(meta_, t, fragment.face, place[chain[j + 1].second]);
           const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[fragment.face]);
+          const auto a = place_in_face(meta_, t, fragment.face, L, place[chain[j].second]);
+          const auto b = place_in_face(meta_, t, fragment.face, L, place[chain[j + 1].second]);
           const double size =
               std::max({(L[1] - L[0]).norm(), (L[2] - L[1]).norm(), (L[0] - L[2]).norm()});
           const Vec2 A = pos[chain[j].second], B = pos[chain[j + 1].second];
@@ -1081,7 +1082,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // Anchors on the ring's edges: exactly where their records put them.
       if (c < int(A) && chart.anchors[c].node.place[s].kind == Place::edge) {
         const auto exact =
-            place_in_face(meta_, s, layout.tris[ti].face, chart.anchors[c].node.place[s]);
+            place_in_face(meta_, s, layout.tris[ti].face, tl, chart.anchors[c].node.place[s]);
         if (exact) {
           piece.corner[s].push_back(*exact);
           continue;
@@ -1109,8 +1110,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (int h : common) {
         std::vector<Vec2>& other = piece.corner[t];
         other.clear();
+        const std::array<Vec2, 3> Lh = meta_face_layout(meta_.side[t].lengths[h]);
         for (int c : cell) {
-          const auto p = place_in_face(meta_, t, h, place[c]);
+          const auto p = place_in_face(meta_, t, h, Lh, place[c]);
           if (!p) break;
           other.push_back(*p);
         }

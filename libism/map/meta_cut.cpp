@@ -198,6 +198,11 @@ std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f, const P
   return place_in_layout(meta.side[side], f, meta_face_layout(meta.side[side].lengths[f]), place);
 }
 
+std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f,
+                                  const std::array<Vec2, 3>& layout, const Place& place) {
+  return place_in_layout(meta.side[side], f, layout, place);
+}
+
 // ---------------------------------------------------------------- cutting a face
 
 namespace {

@@ -74,6 +74,10 @@ void place_faces(const MetaMesh& meta, const MetaIndex& index, int side, const P
 /// The position of a place in the canonical layout of face f of `side`
 /// (meta_face_layout); nothing if the place is not on that face.
 std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f, const Place& place);
+/// The same in a layout of face f the caller already has (`layout` must be
+/// meta_face_layout of its lengths): for placing many points in one face.
+std::optional<Vec2> place_in_face(const MetaMesh& meta, int side, int f,
+                                  const std::array<Vec2, 3>& layout, const Place& place);
 
 /// One face cut into pieces.
 struct FaceCut {
