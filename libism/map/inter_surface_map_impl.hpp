@@ -68,6 +68,7 @@ struct InterSurfaceMap::Chart {
     int a, b, edge;
     double ta, tb;  // parameters along the edge at a and b
     int first, last;
+    Vec2 lo{0, 0}, hi{0, 0};  // box of its ends in the chart (set with the fragments)
   };
   std::vector<Chord> chords;
   /// The cells of t's content in the chart (for locating moved vertices

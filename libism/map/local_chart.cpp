@@ -591,8 +591,12 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       chart.fragments.push_back(std::move(fragment));
     }
     chart.chord_of.clear();
-    for (std::size_t c = 0; c < chart.chords.size(); ++c)
-      chart.chord_of[undirected_edge_key(chart.chords[c].a, chart.chords[c].b)] = int(c);
+    for (std::size_t c = 0; c < chart.chords.size(); ++c) {
+      auto& chord = chart.chords[c];
+      chart.chord_of[undirected_edge_key(chord.a, chord.b)] = int(c);
+      chord.lo = position[chord.a].cwiseMin(position[chord.b]);
+      chord.hi = position[chord.a].cwiseMax(position[chord.b]);
+    }
     chart.chord_fragments.assign(chart.chords.size(), {-1, -1});
     for (std::size_t j = 0; j < chart.fragments.size(); ++j) {
       const auto& nodes = chart.fragments[j].nodes;
@@ -899,8 +903,16 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       chord_used[it->second] = 0;  // the edge of t runs along this inner edge
       continue;
     }
+    // Chords whose box lies apart from the edge's cannot cross it (the gap,
+    // 10⁻⁹ of the coordinates' size, is far above the orientations'
+    // rounding).
+    const Vec2 lo = P.cwiseMin(Q), hi = P.cwiseMax(Q);
+    const double gap = 1e-9 * std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
     for (std::size_t c = 0; c < chart.chords.size(); ++c) {
       const auto& chord = chart.chords[c];
+      if (chord.lo.x() > hi.x() + gap || lo.x() > chord.hi.x() + gap ||
+          chord.lo.y() > hi.y() + gap || lo.y() > chord.hi.y() + gap)
+        continue;
       if (chord.a == na || chord.a == nb || chord.b == na || chord.b == nb) continue;
       const Vec2 &C = pos[chord.a], &D = pos[chord.b];
       const double o1 = orient(P, Q, C), o2 = orient(P, Q, D);
@@ -1223,7 +1235,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         } else if (fragment.summable) {
           double covered = 0;
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
-            covered += part[i] = clipped_area(fragment.chart, tri_chart[i]);
+            covered += part[i] = clipped_area(fragment.chart, fragment.lo, fragment.hi, tri_chart[i]);
           if (!(std::abs(covered - fragment.moments.area) <= 1e-9 * fragment.moments.area)) {
             split.push_back(int(f));
             continue;

@@ -23,7 +23,12 @@ bool for_each_piece(const SurfaceMap& map, int t,
 /// Convex polygon clipped by the triangle (a, b, c), counter-clockwise.
 std::vector<Vec2> clip_to_triangle(std::vector<Vec2> polygon, const std::array<Vec2, 3>& triangle);
 /// polygon_area(clip_to_triangle(polygon, triangle)), the same number,
-/// without allocating (work arrays kept per thread).
-double clipped_area(const std::vector<Vec2>& polygon, const std::array<Vec2, 3>& triangle);
+/// without allocating (work arrays kept per thread). [lo, hi] is the
+/// polygon's bounding box: when it lies apart from the triangle's by more
+/// than 10⁻⁶ of the coordinates' size, the answer is 0 without clipping
+/// (the clipping's rounding cannot bring a point across such a gap, so it
+/// would return the empty polygon too).
+double clipped_area(const std::vector<Vec2>& polygon, const Vec2& lo, const Vec2& hi,
+                    const std::array<Vec2, 3>& triangle);
 
 }  // namespace ism
