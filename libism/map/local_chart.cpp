@@ -1235,7 +1235,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         } else if (fragment.summable) {
           double covered = 0;
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
-            covered += part[i] = clipped_area(fragment.chart, fragment.lo, fragment.hi, tri_chart[i]);
+            covered += part[i] =
+                clipped_area(fragment.chart, fragment.lo, fragment.hi, tri_chart[i]);
           if (!(std::abs(covered - fragment.moments.area) <= 1e-9 * fragment.moments.area)) {
             split.push_back(int(f));
             continue;

@@ -242,10 +242,6 @@ bool whole_face(const MetaMesh& meta, const MetaIndex& index, int s, int f,
   return true;
 }
 
-}  // namespace
-
-namespace {
-
 /// Ids of the meta-vertices met while cutting one face, by key: open
 /// addressing in one array kept between calls (a face of a coarse side
 /// meets thousands, most meet a handful).
@@ -467,7 +463,8 @@ std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex
     if (whole_face(meta, index, s, f, meta_face_layout(meta.side[s].lengths[f]), whole)) {
       const auto &P = whole.corner[0], &Q = whole.corner[1];
       if (polygon_area(P) > 0 && polygon_area(Q) > 0) {
-        // piece_energy of a triangle: its own fan when positive on both sides.
+        // piece_energy of a triangle: its own fan when positive on both
+        // sides, summed from 0 as piece_energy does (so -0 becomes +0).
         sum += best_fan(P, Q) < 0 ? HUGE_VAL : 0.0 + triangle_energy(P, Q, terms);
         return std::nullopt;
       }
