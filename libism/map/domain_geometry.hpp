@@ -107,9 +107,22 @@ inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
 /// Signed area of a polygon (shoelace): positive when counter-clockwise.
 inline double polygon_area(std::span<const Vec2> polygon) {
   double twice = 0.0;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
     const Vec2& a = polygon[i];
-    const Vec2& b = polygon[(i + 1) % polygon.size()];
+    const Vec2& b = polygon[i + 1 == n ? 0 : i + 1];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return 0.5 * twice;
+}
+/// polygon_area of the polygon position[corner[0]], position[corner[1]],
+/// ... (the same number, without gathering the corners).
+inline double polygon_area(std::span<const Vec2> position, std::span<const int> corner) {
+  double twice = 0.0;
+  const std::size_t n = corner.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = position[corner[i]];
+    const Vec2& b = position[corner[i + 1 == n ? 0 : i + 1]];
     twice += a.x() * b.y() - a.y() * b.x();
   }
   return 0.5 * twice;

@@ -781,7 +781,6 @@ struct EvaluateBuffers {
   std::vector<int> common, faces, node_chord, node_fragment, segment_fragment, split;
   std::vector<StretchMoments> per_tri;
   std::vector<double> part;
-  std::vector<Vec2> corners;
   MetaPiece piece;
   PlanarCells cells;
 };
@@ -1141,12 +1140,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const double e = piece_energy(piece, terms);
     return e < HUGE_VAL ? e : eval_fail(207);
   };
-  auto cell_area = [&](std::span<const int> cell) {
-    std::vector<Vec2>& corners = buffers.corners;
-    corners.clear();
-    for (int c : cell) corners.push_back(pos[c]);
-    return polygon_area(corners);
-  };
+  auto cell_area = [&](std::span<const int> cell) { return polygon_area(pos, cell); };
   auto cells_area = [&](const PlanarCells& cells) {
     double covered = 0;
     for (std::size_t i = 0; i < cells.size(); ++i) covered += cell_area(cells[i]);

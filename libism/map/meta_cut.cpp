@@ -498,7 +498,6 @@ bool planar_cells(const std::vector<Vec2>& position,
   thread_local std::vector<int> first, fill, cell;
   thread_local std::vector<std::pair<double, int>> around;
   thread_local std::vector<char> done;
-  thread_local std::vector<Vec2> corners;
   // All neighbour lists in one array: node u's at [first[u], first[u + 1]).
   first.assign(n + 1, 0);
   for (const auto& [u, v] : segments) {
@@ -544,9 +543,7 @@ bool planar_cells(const std::vector<Vec2>& position,
         if (cell.size() > 2 * n) return fail("its arrangement is not planar");
       }
       if (u != int(u0)) return fail("its arrangement is not planar");
-      corners.clear();
-      for (int c : cell) corners.push_back(position[c]);
-      const double area = polygon_area(corners);
+      const double area = polygon_area(position, cell);
       if (area < 0) {
         ++outer;
         continue;
