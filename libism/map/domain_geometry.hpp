@@ -104,28 +104,37 @@ inline Vec2 from_barycentric(const Eigen::Vector3d& b, const std::array<Vec2, 3>
 inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
 }
-/// Signed area of a polygon (shoelace): positive when counter-clockwise.
-inline double polygon_area(std::span<const Vec2> polygon) {
+namespace detail {
+/// Twice the shoelace sum of the n corners corner(0), ..., corner(n - 1).
+template <class Corner>
+double twice_polygon_area(std::size_t n, Corner corner) {
   double twice = 0.0;
-  const std::size_t n = polygon.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const Vec2& a = polygon[i];
-    const Vec2& b = polygon[i + 1 == n ? 0 : i + 1];
+    const Vec2& a = corner(i);
+    const Vec2& b = corner(i + 1 == n ? 0 : i + 1);
     twice += a.x() * b.y() - a.y() * b.x();
   }
-  return 0.5 * twice;
+  return twice;
+}
+}  // namespace detail
+/// Signed area of a polygon (shoelace): positive when counter-clockwise.
+inline double polygon_area(std::span<const Vec2> polygon) {
+  return 0.5 * detail::twice_polygon_area(polygon.size(),
+                                          [&](std::size_t i) -> const Vec2& { return polygon[i]; });
 }
 /// polygon_area of the polygon position[corner[0]], position[corner[1]],
 /// ... (the same number, without gathering the corners).
 inline double polygon_area(std::span<const Vec2> position, std::span<const int> corner) {
-  double twice = 0.0;
-  const std::size_t n = corner.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2& a = position[corner[i]];
-    const Vec2& b = position[corner[i + 1 == n ? 0 : i + 1]];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  return 0.5 * twice;
+  return 0.5 * detail::twice_polygon_area(corner.size(), [&](std::size_t i) -> const Vec2& {
+           return position[corner[i]];
+         });
+}
+/// Whether the boxes [lo1, hi1] and [lo2, hi2] lie apart by more than `gap`
+/// along x or y.
+inline bool boxes_apart(const Vec2& lo1, const Vec2& hi1, const Vec2& lo2, const Vec2& hi2,
+                        double gap) {
+  return lo2.x() > hi1.x() + gap || lo1.x() > hi2.x() + gap || lo2.y() > hi1.y() + gap ||
+         lo1.y() > hi2.y() + gap;
 }
 
 }  // namespace ism

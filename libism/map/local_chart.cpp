@@ -909,9 +909,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     const double gap = 1e-9 * std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
     for (std::size_t c = 0; c < chart.chords.size(); ++c) {
       const auto& chord = chart.chords[c];
-      if (chord.lo.x() > hi.x() + gap || lo.x() > chord.hi.x() + gap ||
-          chord.lo.y() > hi.y() + gap || lo.y() > chord.hi.y() + gap)
-        continue;
+      if (boxes_apart(lo, hi, chord.lo, chord.hi, gap)) continue;
       if (chord.a == na || chord.a == nb || chord.b == na || chord.b == nb) continue;
       const Vec2 &C = pos[chord.a], &D = pos[chord.b];
       const double o1 = orient(P, Q, C), o2 = orient(P, Q, D);

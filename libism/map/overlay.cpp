@@ -37,10 +37,7 @@ double clipped_area(const std::vector<Vec2>& polygon, const Vec2& lo, const Vec2
   const Vec2 t_hi = triangle[0].cwiseMax(triangle[1]).cwiseMax(triangle[2]);
   const double size = std::max({lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff(),
                                 t_lo.cwiseAbs().maxCoeff(), t_hi.cwiseAbs().maxCoeff()});
-  const double gap = 1e-6 * size;
-  if (t_lo.x() > hi.x() + gap || lo.x() > t_hi.x() + gap || t_lo.y() > hi.y() + gap ||
-      lo.y() > t_hi.y() + gap)
-    return 0.0;
+  if (boxes_apart(lo, hi, t_lo, t_hi, 1e-6 * size)) return 0.0;
   thread_local std::vector<Vec2> one, two;
   clip_by_line(polygon, triangle[0], triangle[1], one);
   if (one.empty()) return polygon_area(one);
