@@ -83,6 +83,12 @@ struct InterSurfaceMap::Chart {
     StretchMoments moments;
   };
   std::vector<Fragment> fragments;
+  /// A chart with at least this many fragments is large (a cone's ring
+  /// holds a large part of the other side): evaluate sums its uncut
+  /// fragments per face of s, and optimize_vertex stops its line searches
+  /// after a round that does not get below the map's energy.
+  static constexpr std::size_t kLarge = 24;
+  bool large() const { return fragments.size() >= kLarge; }
   /// Per chord: the fragments on its two sides (-1 where none).
   std::vector<std::array<int, 2>> chord_fragments;
   /// Chord of a pair of anchors (undirected_edge_key).

@@ -1161,7 +1161,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // whole ring, below, when that does not apply.)
   double sum = HUGE_VAL;
   bool summed = false;
-  if (chart.kind == Chart::general && chart.fragments.size() >= 24) {
+  if (chart.kind == Chart::general && chart.large()) {
     const std::size_t F = chart.fragments.size();
     auto& cut = buffers.cut;
     cut.assign(F, 0);
@@ -1541,9 +1541,13 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
         chart.centre_anchor >= 0 && p == chart.centre ? chart.centre_anchor : -1;
     return evaluate(chart, layout, nullptr);
   };
+  // A large chart's first round of line searches mostly ends above
+  // `before` (the chart redraws the other side's edges straight, which at
+  // a cone costs more than moving gains), and a second round then almost
+  // never gets below it (results-two-surfaces.md, stop 40): one round.
   Vec2 p = chart.centre;
-  const double e =
-      minimize_in_kernel(boundary_polygon(chart, 0, m), p, energy, LineSearch::parabolic);
+  const double e = minimize_in_kernel(boundary_polygon(chart, 0, m), p, energy,
+                                      LineSearch::parabolic, chart.large() ? before : HUGE_VAL);
   if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;

@@ -569,7 +569,8 @@ std::pair<double, double> parabolic_search(const std::function<double(double)>& 
 }  // namespace
 
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
-                          const std::function<double(const Vec2&)>& energy, LineSearch rule) {
+                          const std::function<double(const Vec2&)>& energy, LineSearch rule,
+                          double give_up_above) {
   const std::size_t m = ring.size();
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
@@ -647,6 +648,7 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     if (!grad.allFinite() || grad.norm() == 0) break;
     search(-grad);
     search(Vec2(-grad.y(), grad.x()));
+    if (!(e < give_up_above)) break;
   }
   return e;
 }

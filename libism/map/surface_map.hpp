@@ -16,6 +16,7 @@
 #include "map/domain_geometry.hpp"
 #include "pm/pm.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -101,9 +102,11 @@ enum class LineSearch { golden, parabolic };
 /// by central differences of 1e-5 of the ring's size, along turned axes and
 /// wider steps where those are not finite); p moves to the best point found.
 /// Returns the energy there. `energy` may return HUGE_VAL (not a valid place).
+/// A round whose best is not below `give_up_above` is the last (for callers
+/// that keep a result only below a bound).
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy,
-                          LineSearch rule = LineSearch::golden);
+                          LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL);
 
 /// A flat-torus layout of M² over a domain that is the unit square with
 /// opposite sides identified (domain::torus_3x3(): no cones, the vertex

@@ -150,15 +150,23 @@ TEST(KernelCentroid, ThinKernelFarFromTheOrigin) {
 // kernel of a ring (an anisotropic bowl whose minimum is off the axes of the
 // start), never return an invalid place (HUGE_VAL beyond a line through the
 // ring), and the parabolic rule needs fewer evaluations.
-TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
-  const std::vector<Vec2> ring{Vec2(1, 0), Vec2(0, 1), Vec2(-1, 0), Vec2(0, -1)};
-  const Vec2 target(0.21, -0.13);
-  std::size_t calls = 0;
-  auto bowl = [&](const Vec2& q) {
+// The ring (a square around the origin) and the bowl of these tests:
+// anisotropic, its minimum 1 at `target`, counting its evaluations.
+const std::vector<Vec2> kBowlRing{Vec2(1, 0), Vec2(0, 1), Vec2(-1, 0), Vec2(0, -1)};
+const Vec2 kBowlTarget(0.21, -0.13);
+auto counting_bowl(std::size_t& calls) {
+  return [&calls](const Vec2& q) {
     ++calls;
-    const Vec2 d = q - target;
+    const Vec2 d = q - kBowlTarget;
     return 1 + 3 * d.x() * d.x() + d.y() * d.y() + d.x() * d.y();
   };
+}
+
+TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
+  const std::vector<Vec2>& ring = kBowlRing;
+  const Vec2 target = kBowlTarget;
+  std::size_t calls = 0;
+  const auto bowl = counting_bowl(calls);
   std::array<std::size_t, 2> used{};
   std::array<Vec2, 2> found;
   for (const LineSearch rule : {LineSearch::golden, LineSearch::parabolic}) {
@@ -184,6 +192,30 @@ TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
     EXPECT_LE(p.x() + p.y(), 0.2) << int(rule);
     EXPECT_LT(e, bowl(Vec2(-0.3, 0.2))) << int(rule);
   }
+}
+
+// give_up_above: a bound the first round gets below changes nothing; one it
+// does not get below ends the search after that round (the same point as
+// the first round of an unbounded search, with fewer evaluations).
+TEST(MinimizeInKernel, GivesUpAfterARoundThatStaysAboveTheBound) {
+  std::size_t calls = 0;
+  const auto bowl = counting_bowl(calls);
+  auto run = [&](double bound, Vec2& p) {
+    calls = 0;
+    p = Vec2(-0.3, 0.2);
+    const double e = minimize_in_kernel(kBowlRing, p, bowl, LineSearch::parabolic, bound);
+    return std::pair{e, calls};
+  };
+  Vec2 p_free, p_loose, p_tight;
+  const auto [e_free, n_free] = run(HUGE_VAL, p_free);
+  const auto [e_loose, n_loose] = run(1.3, p_loose);  // the start's energy: round 1 gets below
+  EXPECT_EQ(e_loose, e_free);
+  EXPECT_EQ(p_loose, p_free);
+  EXPECT_EQ(n_loose, n_free);
+  const auto [e_tight, n_tight] = run(0.5, p_tight);  // below the minimum: one round
+  EXPECT_LT(n_tight, n_free);
+  EXPECT_GT(e_tight, e_free);  // the second round still gained
+  EXPECT_LT(e_tight, 1.3);
 }
 
 }  // namespace
