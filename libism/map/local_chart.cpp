@@ -1542,9 +1542,9 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     return evaluate(chart, layout, nullptr);
   };
   // A large chart's first round of line searches mostly ends above
-  // `before` (the chart redraws the other side's edges straight, which at
-  // a cone costs more than moving gains), and a second round then almost
-  // never gets below it (results-two-surfaces.md, stop 40): one round.
+  // `before` (re-laying the other side's content in a cone's chart, which
+  // is not isometric, costs more than moving gains), and a second round
+  // then almost never gets below it (results-two-surfaces.md, stop 40).
   Vec2 p = chart.centre;
   const double e = minimize_in_kernel(boundary_polygon(chart, 0, m), p, energy,
                                       LineSearch::parabolic, chart.large() ? before : HUGE_VAL);

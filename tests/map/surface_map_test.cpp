@@ -146,12 +146,8 @@ TEST(KernelCentroid, ThinKernelFarFromTheOrigin) {
   EXPECT_FALSE(kernel_centroid({Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}).has_value());
 }
 
-// Both line-search rules find the minimum of a smooth energy inside the
-// kernel of a ring (an anisotropic bowl whose minimum is off the axes of the
-// start), never return an invalid place (HUGE_VAL beyond a line through the
-// ring), and the parabolic rule needs fewer evaluations.
 // The ring (a square around the origin) and the bowl of these tests:
-// anisotropic, its minimum 1 at `target`, counting its evaluations.
+// anisotropic, its minimum 1 at kBowlTarget, counting its evaluations.
 const std::vector<Vec2> kBowlRing{Vec2(1, 0), Vec2(0, 1), Vec2(-1, 0), Vec2(0, -1)};
 const Vec2 kBowlTarget(0.21, -0.13);
 auto counting_bowl(std::size_t& calls) {
@@ -162,6 +158,10 @@ auto counting_bowl(std::size_t& calls) {
   };
 }
 
+// Both line-search rules find the minimum of a smooth energy inside the
+// kernel of a ring (an anisotropic bowl whose minimum is off the axes of the
+// start), never return an invalid place (HUGE_VAL beyond a line through the
+// ring), and the parabolic rule needs fewer evaluations.
 TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
   const std::vector<Vec2>& ring = kBowlRing;
   const Vec2 target = kBowlTarget;
@@ -195,8 +195,8 @@ TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
 }
 
 // give_up_above: a bound the first round gets below changes nothing; one it
-// does not get below ends the search after that round (the same point as
-// the first round of an unbounded search, with fewer evaluations).
+// does not get below ends the search after that round (fewer evaluations,
+// short of what the second round would have gained).
 TEST(MinimizeInKernel, GivesUpAfterARoundThatStaysAboveTheBound) {
   std::size_t calls = 0;
   const auto bowl = counting_bowl(calls);
