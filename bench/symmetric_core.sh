@@ -12,7 +12,7 @@
 # core only). On the octahedron and the bases, SurfaceMap moves cones
 # between surface vertices, the symmetric core releases them continuously.
 source "$(dirname "$0")/common.sh"
-octa="${OCTA-sphere cube bunny_small spot gargoyle}"
+octa="${OCTA-sphere cube bunny_small spot gargoyle fandisk}"
 semireg="${SEMIREG-double_torus torus spot}"
 pairs="${PAIRS-spot:bunny_small:300 torus:cup:150 double_torus:eight_loop2:300}"
 

@@ -189,9 +189,11 @@ int main(int argc, char** argv) {
       m.backward_efficiency);
   std::printf(
       "splits %zu, sweeps %zu + %zu final; optimisations %zu (moves %zu; charts: one face %zu, "
-      "developed %zu, general %zu; refused by the check %zu); splits retried %zu, in place %zu\n",
+      "developed %zu, general %zu; refused by the check %zu); splits retried %zu, in place %zu "
+      "(hard splits relaxed %zu)\n",
       stats.splits, stats.sweeps, stats.final_sweeps, st.optimizations, st.moves, st.fast_path,
-      st.developed, st.general, st.rejected, st.split_retries, st.splits_in_place);
+      st.developed, st.general, st.rejected, st.split_retries, st.splits_in_place,
+      stats.hard_splits);
   if (!problem) {
     // How the energy is spread: the share of its excess over the ideal
     // (2, an isometry) held by the worst 1 % and 10 % of side 1's faces.

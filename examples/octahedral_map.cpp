@@ -6,7 +6,8 @@
 // continuously; the surface as side 1, refined by refine_surfaces) instead
 // of SurfaceMap, for comparison. Environment: ISM_HOLD holds the features
 // (both cores); ISM_LEVEL_SWEEPS, ISM_FINAL_SWEEPS and ISM_LOCAL_BUDGET set
-// the symmetric core's sweep counts and local relaxation budget;
+// the symmetric core's sweep counts and local relaxation budget,
+// ISM_HARD_SPLIT_GROWTH its hard splits' threshold (hard_split_growth);
 // ISM_KINKS=follow_cells bends its edges wherever they cross a cell whose
 // map is not affine (InterSurfaceOptions::kinks; default where_needed, the
 // paper's rule);
@@ -52,6 +53,8 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
   if (const char* n = std::getenv("ISM_FINAL_SWEEPS")) options.max_final_sweeps = std::atoi(n);
   if (const char* n = std::getenv("ISM_LOCAL_BUDGET"))
     options.local_relaxation_budget = std::atof(n);
+  if (const char* n = std::getenv("ISM_HARD_SPLIT_GROWTH"))
+    options.hard_split_growth = std::atof(n);
   int shown = -1;
   options.progress = [&](double f) {
     if (int(f * 10) > shown) std::fprintf(stderr, "refine %3d %%\n", (shown = int(f * 10)) * 10);
@@ -74,11 +77,11 @@ int run_symmetric(const ism::DomainGeometry& domain, const ism::ProgressiveMesh&
               m.symmetric_efficiency, m.forward_efficiency, m.backward_efficiency);
   std::printf(
       "optimisations %zu (moves %zu): one-ring in one face %.1f%%, developed %.1f%%, "
-      "general %.1f%%; sweeps %zu + %zu final\n",
+      "general %.1f%%; sweeps %zu + %zu final; hard splits %zu\n",
       o.optimizations, o.moves, 100.0 * o.fast_path / std::max<std::size_t>(1, o.optimizations),
       100.0 * o.developed / std::max<std::size_t>(1, o.optimizations),
       100.0 * o.general / std::max<std::size_t>(1, o.optimizations), stats.sweeps,
-      stats.final_sweeps);
+      stats.final_sweeps, stats.hard_splits);
   const ism::MetaMeshSize size = ism::meta_mesh_size(map.meta());
   std::printf("overlay: %zu pieces, %zu crossings, %zu kinks, %zu pieces triangulated\n",
               size.pieces, size.crossings, size.kinks, size.triangulated_pieces);

@@ -123,6 +123,10 @@ class InterSurfaceMap {
   /// such rounds it throws std::runtime_error, the map still valid at the
   /// split before.
   int split_next(int side);
+  /// The energy of the faces the last split_next changed (the split
+  /// vertex's old ring and the two new faces) over that of the old ring
+  /// before it; 0 before any split.
+  double last_split_growth() const { return last_split_growth_; }
   static constexpr int kSplitRetries = 3;
   static constexpr double kSplitEnergyCap = 100;
 
@@ -246,6 +250,7 @@ class InterSurfaceMap {
   mutable MapOperationStats stats_;
   mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
+  double last_split_growth_ = 0;
 };
 
 }  // namespace ism

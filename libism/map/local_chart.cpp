@@ -1590,8 +1590,8 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
 
   // The energy of the ring before the split bounds the placement's.
-  const double before = place && cap < HUGE_VAL ? faces_energy(s, chart.faces) : HUGE_VAL;
-  const double limit = before < HUGE_VAL ? cap * before : HUGE_VAL;
+  const double before = place ? faces_energy(s, chart.faces) : HUGE_VAL;
+  const double limit = before < HUGE_VAL && cap < HUGE_VAL ? cap * before : HUGE_VAL;
 
   // Connectivity: the faces from vl to vr go to vs, two new faces.
   MetaSide& S = meta_.side[s];
@@ -1723,8 +1723,10 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
       layout.inner[0].pos = ranked[k].second;
       Proposal proposal;
       if (evaluate(chart, layout, &proposal) < HUGE_VAL &&
-          apply(s, changed, proposal, limit, limit < HUGE_VAL))
+          apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
+        last_split_growth_ = faces_energy(s, changed) / before;
         return vs;
+      }
       chart_failure_ = 5000;
     }
   }
@@ -1737,6 +1739,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     if (!set_up) last_refusal_ = "the split in place could not be set up";
     if (set_up && apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
       ++stats_.splits_in_place;
+      last_split_growth_ = faces_energy(s, changed) / before;
       return vs;
     }
   }

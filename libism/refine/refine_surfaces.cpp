@@ -39,10 +39,16 @@ double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options)
   return gain;
 }
 
-LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
-                                               const SurfaceRefineOptions& options) {
+namespace {
+
+/// The local relaxation queue from `seeds` (pairs side, vertex): each
+/// optimised, and a vertex whose move gained more than the options' share
+/// of the mean energy per vertex queues its neighbours; at most `max_moves`
+/// optimisations.
+LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
+                                const std::vector<std::pair<int, int>>& seeds,
+                                std::size_t max_moves) {
   LocalRelaxationStats stats;
-  if (!(options.local_relaxation_budget > 0)) return stats;
   std::deque<std::pair<int, int>> queue;
   std::array<std::vector<char>, 2> queued;
   for (int side = 0; side < 2; ++side) queued[side].assign(map.meta().side[side].n_vertices(), 0);
@@ -51,11 +57,9 @@ LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
     queue.push_back({side, v});
     queued[side][v] = 1;
   };
-  for (int side = 0; side < 2; ++side)
-    for (std::size_t v = 0; v < queued[side].size(); ++v) enqueue(side, int(v));
+  for (const auto& [side, v] : seeds) enqueue(side, v);
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   const double threshold = options.local_relaxation_gain * map.energy() / vertices;
-  const auto max_moves = std::size_t(options.local_relaxation_budget * vertices);
   for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
     const auto [side, v] = queue.front();
     queue.pop_front();
@@ -66,6 +70,19 @@ LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
       for (int w : map.neighbours(side, v)) enqueue(side, w);
   }
   return stats;
+}
+
+}  // namespace
+
+LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
+                                               const SurfaceRefineOptions& options) {
+  if (!(options.local_relaxation_budget > 0)) return {};
+  std::vector<std::pair<int, int>> all;
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
+      all.push_back({side, int(v)});
+  const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
+  return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices));
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
@@ -91,10 +108,23 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     after(map, options, {SurfaceStep::split, side, vs, 0.0});
     std::vector<int> todo = map.neighbours(side, vs);
     todo.push_back(vs);
-    for (int v : todo) optimise(map, options, side, v);
+    std::vector<std::pair<int, int>> region;
+    for (int v : todo) {
+      optimise(map, options, side, v);
+      region.push_back({side, v});
+    }
     if (options.optimise_other_side)
       for (int x : map.others_in_ring(side, vs))
-        if (map.is_active(1 - side, x)) optimise(map, options, 1 - side, x);
+        if (map.is_active(1 - side, x)) {
+          optimise(map, options, 1 - side, x);
+          region.push_back({1 - side, x});
+        }
+    if (map.last_split_growth() > options.hard_split_growth) {
+      ++stats.hard_splits;
+      if (options.hard_split_relaxation > 0)
+        stats.local_moves +=
+            relax_from(map, options, region, options.hard_split_relaxation * region.size()).moves;
+    }
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
       const double e = map.energy();

@@ -3,7 +3,8 @@
 // the vertex splits of both progressive meshes are replayed, the side that
 // is less refined (as a fraction of its splits) next, so both reach full
 // resolution together; after each split the new vertex and its neighbours
-// are optimised; whenever the vertices of both sides together have grown by
+// are optimised (after a hard split, the relaxation queue from them);
+// whenever the vertices of both sides together have grown by
 // `sweep_growth`, every vertex of both sides is; final sweeps at full
 // resolution until the relative gain is small.
 #include "map/inter_surface_map.hpp"
@@ -44,6 +45,15 @@ struct SurfaceRefineOptions {
   /// confined by its squeezed neighbours.
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// After a hard split, one that raised the energy of its faces more than
+  /// `hard_split_growth`-fold (InterSurfaceMap::last_split_growth(): a
+  /// nearly degenerate piece, which the new ring's one optimisation may
+  /// not undo, and later splits there compound), the same queue runs from
+  /// the vertices just optimised (the new ring's and the other side's
+  /// inside it), at most `hard_split_relaxation` moves per such vertex (0:
+  /// never).
+  double hard_split_growth = 10;
+  std::size_t hard_split_relaxation = 50;
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
@@ -56,6 +66,7 @@ struct SurfaceRefineOptions {
 struct SurfaceRefineStats {
   std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
   std::size_t local_moves = 0;  // moves of the local relaxation queues
+  std::size_t hard_splits = 0;  // splits above hard_split_growth, relaxed
   double energy = 0;
 };
 

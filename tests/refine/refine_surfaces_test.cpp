@@ -4,10 +4,13 @@
 // the result is a valid map of both full-resolution surfaces.
 #include "refine/refine_surfaces.hpp"
 #include "domain/domain.hpp"
+#include "io/io.hpp"
 #include "map/inter_surface_map.hpp"
+#include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "shapes/shapes.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -60,6 +63,32 @@ TEST(RefineSurfaces, EveryStepIsReportedAndEachGainIsTheDropOfTheEnergy) {
       "sphere %zu / blob %zu faces: %zu splits (worst energy ratio %.3f), %zu moves, "
       "symmetric efficiency %.4f\n",
       a.n_faces(), b.n_faces(), splits, worst_split, moves, map.measures().symmetric_efficiency);
+}
+
+// fandisk (sharp creases, flat panels) on the equilateral octahedron: some
+// splits raise the energy of their faces ten- to a billionfold (nearly
+// degenerate pieces; a retried split's last attempt takes any valid place),
+// which the new ring's one optimisation did not undo, and the next splits
+// there compounded it (the map's energy 10¹² at M² split 6492, where no
+// valid place remained). The relaxation queue after each such hard split
+// keeps the map healthy to full resolution.
+TEST(RefineSurfaces, HardSplitsAreRelaxedSoACreasedModelCompletes) {
+  ISM_REQUIRE_SHARED_MODELS();
+  const TriangleMesh surface =
+      prepare_mesh(io::read_polygon_soup(test::shared_models_dir() / "fandisk.obj")).mesh;
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pm = simplify_constrained(trace_octahedral_network(surface), octahedron);
+  const DomainGeometry domain(octahedron,
+                              octahedron_lengths(octahedron, DomainMetric::equilateral));
+  InterSurfaceMap map(side_from_domain(domain, pm), side_from_pm(pm));
+  const SurfaceRefineStats stats = refine_surfaces(map);
+  EXPECT_EQ(map.n_faces(1), replay(pm).n_faces());  // full resolution
+  EXPECT_FALSE(map.validate());
+  EXPECT_GT(stats.hard_splits, 0u);
+  const double efficiency = map.measures().symmetric_efficiency;
+  EXPECT_GT(efficiency, 0.75);  // 0.7865 when written
+  std::printf("fandisk, equilateral octahedron: %zu hard splits, symmetric efficiency %.4f\n",
+              stats.hard_splits, efficiency);
 }
 
 }  // namespace
