@@ -407,15 +407,15 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "gim_remesh",
-      [gim_result](const py::object& surface, const py::object& faces, int size,
-                   const std::string& metric, const py::object& features, bool hold_features,
-                   int final_sweeps, std::size_t contenders, std::optional<double> inverse_weight,
-                   std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
-                   std::optional<double> anisotropy_threshold, const py::object& output,
-                   const py::object& normals, const py::object& mesh, int draco_bits,
-                   bool glb_draco, const py::object& preview, const py::object& mask,
-                   const py::object& dump_patches, const py::object& meta_mesh,
-                   const py::object& report, bool quiet) {
+      [gim_result](
+          const py::object& surface, const py::object& faces, int size, const std::string& metric,
+          const std::string& core, const py::object& features, bool hold_features, int final_sweeps,
+          std::size_t contenders, std::optional<double> inverse_weight,
+          std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
+          std::optional<double> anisotropy_threshold, const py::object& output,
+          const py::object& normals, const py::object& mesh, int draco_bits, bool glb_draco,
+          const py::object& preview, const py::object& mask, const py::object& dump_patches,
+          const py::object& meta_mesh, const py::object& report, bool quiet) {
         pipeline::GimRemeshOptions o;
         o.input = input_mesh(surface, faces, "gim_remesh");
         o.features = feature_source(features, "features");
@@ -431,6 +431,10 @@ PYBIND11_MODULE(ism, m) {
         MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
                      curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
+        if (core == "symmetric")
+          o.map.core = tool::MapCore::symmetric;
+        else if (core != "surface-map")
+          throw py::value_error("core must be 'surface-map' or 'symmetric', got '" + core + "'");
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
         const py::ssize_t n = r.image.n;
@@ -440,20 +444,22 @@ PYBIND11_MODULE(ism, m) {
                           faces_array(r.remesh.triangles), rep, alpha_array(r.image));
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
-      "metric"_a = "right-isosceles", "features"_a = py::none(), "hold_features"_a = false,
-      "final_sweeps"_a = 8, "contenders"_a = 0, "inverse_weight"_a = py::none(),
-      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
-      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "normals"_a = py::none(),
-      "mesh"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false, "preview"_a = py::none(),
-      "mask"_a = py::none(), "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
-      "report"_a = py::none(), "quiet"_a = false,
+      "metric"_a = "right-isosceles", "core"_a = "surface-map", "features"_a = py::none(),
+      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
+      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
+      "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
+      "glb_draco"_a = false, "preview"_a = py::none(), "mask"_a = py::none(),
+      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
+      "quiet"_a = false,
       "gim_remesh(path or V, F, *, size=257, ...) -> GimRemeshResult(image, normals, vertices, "
       "faces, report)\n\n"
       "Octahedral geometry image of a genus-0 surface (holes capped; the output .exr then has\n"
       "an alpha channel, mask (.png) marks the surface, vertices/faces drop the caps), as the\n"
       "gim-remesh tool (same\n"
       "options, same defaults: curvature_weight None means the tool's 0.5, inverse_weight None\n"
-      "its two map variants). features: a file path, 6 vertex indices or 6 points for\n"
+      "its two map variants; core 'symmetric' the one map both sides refine, closed surfaces\n"
+      "only). features: a file path, 6 vertex indices or 6 points for\n"
       "+x -x +y -y +z -z (default automatic). output/normals (.exr), mesh (.obj .ply .off .stl\n"
       ".drc .glb), preview (.png), dump_patches (.ply), meta_mesh, report (.json) are written\n"
       "when given.");

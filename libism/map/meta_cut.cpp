@@ -747,7 +747,11 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece) {
     for (int i = 0; i + len < n; ++i) {
       const int j = i + len;
       for (int k = i + 1; k < j; ++k) {
-        const double q = std::min({best_q[at(i, k)], best_q[at(k, j)], quality(i, k, j)});
+        // A split whose sub-chains are no better than the best so far
+        // cannot win: its triangle's quality is not needed.
+        const double sub = std::min(best_q[at(i, k)], best_q[at(k, j)]);
+        if (!(sub > best_q[at(i, j)])) continue;
+        const double q = std::min(sub, quality(i, k, j));
         if (q > best_q[at(i, j)]) best_q[at(i, j)] = q, split[at(i, j)] = k;
       }
     }

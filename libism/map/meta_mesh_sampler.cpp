@@ -90,4 +90,32 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
   return MetaPoint{other, out};
 }
 
+DomainSurfaceSampler::DomainSurfaceSampler(const MetaMesh& meta, const DomainGeometry& domain)
+    : sampler_(meta), faces_(meta.side[1].faces), positions_(meta.side[1].positions) {
+  if (positions_.empty())
+    throw std::invalid_argument("DomainSurfaceSampler: side 1 is not an embedded surface");
+  side_face_.assign(domain.n_faces(), {-1, 0});
+  const auto& faces = meta.side[0].faces;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const auto found = domain.find_face(faces[i]);
+    if (!found) throw std::invalid_argument("DomainSurfaceSampler: a face is not a domain face");
+    side_face_[(*found)[0]] = {int(i), (*found)[1]};
+  }
+}
+
+std::optional<SurfacePoint> DomainSurfaceSampler::surface_point(int face,
+                                                                const Eigen::Vector3d& bary) const {
+  if (face < 0 || std::size_t(face) >= side_face_.size() || side_face_[face][0] < 0)
+    return std::nullopt;
+  // Side-0 corner k is the domain face's corner (k + r) % 3.
+  const auto [f, r] = side_face_[face];
+  const Eigen::Vector3d b(bary[r], bary[(r + 1) % 3], bary[(r + 2) % 3]);
+  const auto q = sampler_.map_point(0, f, b);
+  if (!q) return std::nullopt;
+  const Triangle& t = faces_[q->face];
+  return SurfacePoint{q->face, q->bary,
+                      q->bary[0] * positions_[t[0]] + q->bary[1] * positions_[t[1]] +
+                          q->bary[2] * positions_[t[2]]};
+}
+
 }  // namespace ism

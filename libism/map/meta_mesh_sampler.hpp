@@ -3,7 +3,9 @@
 // point of the other, through the affine map of the piece that holds it.
 // What MapSampler does for a SurfaceMap, for the symmetric form (and for a
 // map read back from a meta-mesh file).
+#include "map/domain_geometry.hpp"
 #include "map/meta_mesh.hpp"
+#include "map/sampler.hpp"
 
 #include <optional>
 
@@ -41,6 +43,28 @@ class MetaMeshSampler {
   std::vector<std::array<std::vector<Vec2>, 2>> points_;    // their points (PieceTriangulation)
   std::array<std::vector<std::array<Vec2, 3>>, 2> layout_;
   std::array<std::vector<Grid>, 2> grid_;
+};
+
+/// A remesher's domain points on the surface, through a meta-mesh whose side
+/// 0 is that domain (InterSurfaceMap's side_from_domain(domain, pm): its
+/// faces are the domain's in the PM's order and rotation) and side 1 the
+/// embedded surface (positions given). What MapSampler::surface_point is for
+/// a SurfaceMap. Throws std::invalid_argument if the meta-mesh does not
+/// validate, side 1 has no positions, or a face of side 0 is not a face of
+/// `domain`. Keeps no reference to either.
+class DomainSurfaceSampler {
+ public:
+  DomainSurfaceSampler(const MetaMesh& meta, const DomainGeometry& domain);
+  /// The surface point of (face, bary) of the domain, face and barycentric
+  /// coordinates in the domain's own corner order; nothing for a face out
+  /// of range or a point outside it (beyond rounding).
+  std::optional<SurfacePoint> surface_point(int face, const Eigen::Vector3d& bary) const;
+
+ private:
+  MetaMeshSampler sampler_;
+  std::vector<std::array<int, 2>> side_face_;  // domain face -> side-0 face, rotation
+  std::vector<Triangle> faces_;                // side 1
+  std::vector<Vec3> positions_;
 };
 
 }  // namespace ism

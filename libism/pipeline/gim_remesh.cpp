@@ -17,17 +17,18 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <memory>
 #include <stdexcept>
 
 namespace ism::pipeline {
 namespace {
 
 // Area-weighted vertex normals of the map's surface.
-std::vector<Vec3> vertex_normals(const SurfaceMap& map) {
-  std::vector<Vec3> n(map.positions().size(), Vec3::Zero());
-  for (const Triangle& t : map.faces()) {
-    const auto& p = map.positions();
+std::vector<Vec3> vertex_normals(const std::vector<Triangle>& faces, const std::vector<Vec3>& p) {
+  std::vector<Vec3> n(p.size(), Vec3::Zero());
+  for (const Triangle& t : faces) {
     const Vec3 fn = (p[t[1]] - p[t[0]]).cross(p[t[2]] - p[t[0]]);
     for (int v : t) n[v] += fn;
   }
@@ -96,6 +97,11 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   }
   const bool open = !capped.loops.empty();
   const TriangleMesh& closed = capped.mesh;
+  const bool symmetric = o.map.core == tool::MapCore::symmetric;
+  if (symmetric && open)
+    throw tool::Failure("gim-remesh: " + input +
+                        " has holes; --core symmetric maps closed surfaces only (the default core "
+                        "caps holes)");
 
   run.stage("partition");
   std::vector<PathNetwork> networks;
@@ -127,33 +133,62 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   const auto judge = [&](const SurfaceMap& m) {
     return m.measures(input_faces.of(m)).forward_efficiency;
   };
-  const auto [chosen, stats] = tool::run_map_stage(
+  // Ranked by the measure the final map is kept by (caps excluded; the
+  // symmetric core maps closed surfaces only).
+  auto [chosen, stats, symmetric_map, symmetric_stats] = tool::run_map_stage(
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
        .hint = "try --hold-features or other --features"},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
-        // Ranked by the measure the final map is kept by (caps excluded).
         return rank_networks(networks, domain, options, 1000, {}, count, [&](const SurfaceMap& m) {
           return m.measures(input_faces.of_any_level(m)).forward_efficiency;
         });
       },
       judge);
+  // What the rest needs of the map, from either core: the meta-mesh, the
+  // surface point of a domain point, the surface's faces and positions at
+  // full resolution, which faces are the input's, the measures and their
+  // report.
+  MetaMesh meta;
+  std::function<std::optional<SurfacePoint>(int, const Eigen::Vector3d&)> locate;
+  std::vector<Triangle> surface_faces;
+  std::vector<Vec3> surface_positions;
+  std::vector<char> on_input;
+  MapMeasures m;
+  Json map_json;
+  std::unique_ptr<MapSampler> map_sampler;
+  std::unique_ptr<DomainSurfaceSampler> domain_sampler;
+  if (!symmetric_map) {
+    const SurfaceMap& map = *chosen->map;
+    meta = tool::validate_map(run, map);
+    on_input = input_faces.of(map);
+    run.stage("sample");
+    map_sampler = std::make_unique<MapSampler>(map);
+    locate = [&](int f, const Eigen::Vector3d& b) { return map_sampler->surface_point(f, b); };
+    surface_faces = map.faces();
+    surface_positions = map.positions();
+    m = map.measures(on_input);
+    map_json = map_report(map, m, stats);
+  } else {
+    meta = tool::validate_map(run, *symmetric_map);
+    run.stage("sample");
+    domain_sampler = std::make_unique<DomainSurfaceSampler>(meta, domain);
+    locate = [&](int f, const Eigen::Vector3d& b) { return domain_sampler->surface_point(f, b); };
+    surface_faces = meta.side[1].faces;
+    surface_positions = meta.side[1].positions;
+    m = symmetric_map->measures();
+    map_json = map_report(*symmetric_map, m, symmetric_stats);
+  }
   run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
-  const SurfaceMap& map = *chosen->map;
 
-  const MetaMesh meta = tool::validate_map(run, map);
-  const std::vector<char> on_input = input_faces.of(map);
-
-  run.stage("sample");
-  const MapSampler sampler(map);
-  const std::vector<Vec3> normals = vertex_normals(map);
+  const std::vector<Vec3> normals = vertex_normals(surface_faces, surface_positions);
   GimRemeshResult result;
   // Metric and layout agree: the right-isosceles octahedron is the square.
   result.image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
-    const auto s = sampler.surface_point(q.face, q.bary);
+    const auto s = locate(q.face, q.bary);
     if (!s) throw std::runtime_error("a sample fell outside the map");
     return s->position;
   });
@@ -161,7 +196,7 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
     // The pixel's alpha: 1 on the input surface, 0 on a cap (mirrored
     // pixels are the same octahedron point, so they agree).
     const GeometryImage on = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
-      const auto s = sampler.surface_point(q.face, q.bary);
+      const auto s = locate(q.face, q.bary);
       return Vec3(on_input[s->face] ? 1.0 : 0.0, 0.0, 0.0);
     });
     result.image.alpha.resize(on.pixels.size());
@@ -169,8 +204,9 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
       result.image.alpha[p] = float(on.pixels[p].x());
   }
   result.normals = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
-    const auto s = sampler.surface_point(q.face, q.bary);
-    const Triangle& t = map.faces()[s->face];
+    const auto s = locate(q.face, q.bary);
+    if (!s) throw std::runtime_error("a sample fell outside the map");
+    const Triangle& t = surface_faces[s->face];
     return Vec3(
         (s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
             .normalized());
@@ -198,12 +234,11 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   });
 
   run.stage("measure");
-  const MapMeasures m = map.measures(on_input);
   const SurfaceDistance distance = surface_distance(surface, result.remesh);
   Json& r = run.report();
   r["size"] = o.size;
   r["metric"] = o.metric;
-  r["map"] = map_report(map, m, stats);
+  r["map"] = map_json;
   const double square_efficiency = image_efficiency(image, ImageDomain::square);
   Json& ij = r["image"];
   ij["efficiency_square"] = square_efficiency;

@@ -269,6 +269,10 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     throw tool::Failure("semireg: --base-size must be 4.." + std::to_string(1 << 24) + ", got " +
                         std::to_string(o.base_size));
   tool::check_settings("semireg", o.map, o.mesh_file);
+  if (o.map.core == tool::MapCore::symmetric)
+    throw tool::Failure(
+        "semireg: the symmetric map core is not available here yet (gim-remesh "
+        "--core symmetric is)");
   tool::require_mesh_extension(run, "-o", o.output);
   tool::require_mesh_extension(run, "--write-base", o.write_base);
   tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
@@ -371,7 +375,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   std::mutex domains_mutex;
   std::map<const DomainGeometry*, std::size_t> base_of_domain;
   tool::Progress& progress = run.stage("map");
-  const auto [chosen, stats] = tool::run_map_stage(
+  const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
@@ -419,6 +423,8 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
         }
         return efficiency - double(sample_remesh(m, i).second.folds_after);
       });
+  const auto& chosen = staged.setup;
+  const RefineStats& stats = staged.stats;
   const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
   const std::optional<BoundedBase>& chosen_bounded = bounded[candidate_base[chosen->candidate]];

@@ -131,6 +131,10 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const GridSize size = parse_size(o.size);
   check_formats(o);
   tool::check_settings("torus-remesh", o.map, o.mesh_file);
+  if (o.map.core == tool::MapCore::symmetric)
+    throw tool::Failure(
+        "torus-remesh: the symmetric map core is not available here yet (gim-remesh "
+        "--core symmetric is)");
   tool::check_torus_grid(run, size.columns, size.rows);
   tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
   for (const std::string& out : {o.output, o.image, o.dump_patches})
@@ -165,7 +169,7 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
       return s->position;
     });
   };
-  const auto [chosen, stats] = tool::run_map_stage(
+  const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
@@ -184,6 +188,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
         const TorusGrid grid = sample(map);
         return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
       });
+  const auto& chosen = staged.setup;
+  const RefineStats& stats = staged.stats;
   const SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
   run.report()["partition"]["candidate_networks"] = n_candidates;

@@ -22,6 +22,30 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
   return j;
 }
 
+Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats) {
+  const MapOperationStats& o = map.stats();
+  const double n = double(std::max<std::size_t>(1, o.optimizations));
+  Json j = Json::object();
+  j["valid"] = true;
+  j["core"] = "symmetric";
+  j["faces"] = map.n_faces(1);
+  j["domain_faces"] = map.n_faces(0);
+  j["symmetric_efficiency"] = m.symmetric_efficiency;
+  j["efficiency_domain_to_surface"] = m.forward_efficiency;
+  j["efficiency_surface_to_domain"] = m.backward_efficiency;
+  j["optimizations"] = o.optimizations;
+  j["moves"] = o.moves;
+  j["fast_path_fraction"] = double(o.fast_path) / n;
+  j["developed_fraction"] = double(o.developed) / n;
+  j["general_fraction"] = double(o.general) / n;
+  j["splits_in_place"] = o.splits_in_place;
+  j["split_retries"] = o.split_retries;
+  j["sweeps"] = stats.sweeps;
+  j["final_sweeps"] = stats.final_sweeps;
+  j["hard_splits"] = stats.hard_splits;
+  return j;
+}
+
 Json distance_report(const SurfaceDistance& distance) {
   Json j = Json::object();
   j["psnr_db"] = distance.psnr_db;

@@ -6,6 +6,7 @@
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
+#include "refine/refine_surfaces.hpp"
 #include "report/json.hpp"
 
 namespace ism {
@@ -29,6 +30,9 @@ Json compatible_partition_report(const CompatibleNetworks& networks,
 /// from map.measures()), optimisations and the fast-path fraction. The map must have
 /// passed validate().
 Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& stats);
+/// The same for a map on the symmetric core (its side 1 the surface): faces
+/// of each side, efficiencies, and what the operations did.
+Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats);
 
 /// The "distance" section: PSNR, rms both ways and pooled, Hausdorff.
 Json distance_report(const SurfaceDistance& distance);

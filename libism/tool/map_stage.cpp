@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <exception>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 
@@ -58,6 +59,28 @@ void MapSettings::set_anisotropy_threshold(double ratio) {
   fallback_variants.clear();
 }
 
+namespace {
+
+// The symmetric core's refinement of a chosen coarse map (run_map_stage).
+void refine_symmetric(MapStageResult& result, const MapVariant& variant,
+                      const std::function<void(double)>& progress, bool hold_features) {
+  const MapSetup& setup = *result.setup;
+  InterSurfaceOptions options;
+  options.hold_features = hold_features;
+  options.inverse_weight = variant.inverse_stretch_weight;
+  result.symmetric = std::make_unique<InterSurfaceMap>(
+      side_from_domain(setup.map->domain(), setup.pm), side_from_pm(setup.pm), options);
+  SurfaceRefineOptions refine_options;
+  refine_options.progress = progress;
+  try {
+    result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(describe_stop(*result.symmetric, e.what()));
+  }
+}
+
+}  // namespace
+
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score) {
@@ -103,13 +126,22 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
             out.used = true;
             out.result.setup = std::move(setups[k]);
             try {
-              RefineOptions options;
-              options.max_final_sweeps = settings.final_sweeps;
-              options.global_flat_reembedding = stage.global_flat_reembedding;
-              options.local_disc_every = stage.local_disc_every;
-              if (i == first && k == 0) options.progress = [&](double f) { progress.update(f); };
-              out.result.stats = refine(*out.result.setup->map, options);
-              out.score = score(*out.result.setup->map);
+              std::function<void(double)> report_progress;
+              if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
+              if (settings.core == MapCore::symmetric) {
+                refine_symmetric(out.result, all[i], report_progress, settings.hold_features);
+                out.score = stage.symmetric_score
+                                ? stage.symmetric_score(*out.result.symmetric)
+                                : out.result.symmetric->measures().forward_efficiency;
+              } else {
+                RefineOptions options;
+                options.max_final_sweeps = settings.final_sweeps;
+                options.global_flat_reembedding = stage.global_flat_reembedding;
+                options.local_disc_every = stage.local_disc_every;
+                options.progress = report_progress;
+                out.result.stats = refine(*out.result.setup->map, options);
+                out.score = score(*out.result.setup->map);
+              }
             } catch (...) {
               out.error = std::current_exception();
             }
@@ -148,8 +180,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   }
 
   Json& r = run.report();
+  r["map_core"] = settings.core == MapCore::symmetric ? "symmetric" : "surface_map";
   r["features_released"] = !settings.hold_features;
-  r["curvature_weight"] = settings.curvature_weight;
+  r["curvature_weight"] = settings.core == MapCore::symmetric ? 0.0 : settings.curvature_weight;
   Json& variants = r["map_variants"] = Json::array();
   std::size_t used = 0, kept_position = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -171,7 +204,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
         v["error"] = e.what();
       }
     } else {
-      const MapMeasures m = outcomes[i].result.setup->map->measures();
+      const MapStageResult& result = outcomes[i].result;
+      const MapMeasures m =
+          result.symmetric ? result.symmetric->measures() : result.setup->map->measures();
       v["candidate"] = outcomes[i].result.setup->candidate;
       v["score"] = outcomes[i].score;
       v["efficiency_domain_to_surface"] = m.forward_efficiency;
@@ -194,18 +229,11 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   return kept_result;
 }
 
-MetaMesh validate_map(Run& run, const SurfaceMap& map) {
-  run.stage("validate");
-  const std::string invalid = run.tool_name() + ": internal error, the map is invalid: ";
-  if (const auto problem = map.validate())
-    throw Failure(invalid + *problem, Failure::Kind::internal);
-  // The same map from both sides, independently of how SurfaceMap stores it.
-  std::optional<MetaMesh> meta = meta_mesh(map);
-  if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
-  const auto pieces = meta_pieces(*meta);
-  if (!pieces)
-    throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"), Failure::Kind::internal);
-  const MetaMeshSize size = meta_mesh_size(*meta, *pieces);
+namespace {
+
+// The report's "meta_mesh" of a meta-mesh whose pieces are `pieces`.
+void report_meta_mesh(Run& run, const MetaMesh& meta, const std::vector<MetaPiece>& pieces) {
+  const MetaMeshSize size = meta_mesh_size(meta, pieces);
   Json& j = run.report()["meta_mesh"];
   j["valid"] = true;
   j["pieces"] = size.pieces;
@@ -215,7 +243,37 @@ MetaMesh validate_map(Run& run, const SurfaceMap& map) {
   j["kinks"] = size.kinks;
   j["triangulated_pieces"] = size.triangulated_pieces;
   j["points_inside_pieces"] = size.points_inside_pieces;
+}
+
+std::string invalid_prefix(const Run& run) {
+  return run.tool_name() + ": internal error, the map is invalid: ";
+}
+
+}  // namespace
+
+MetaMesh validate_map(Run& run, const SurfaceMap& map) {
+  run.stage("validate");
+  const std::string invalid = invalid_prefix(run);
+  if (const auto problem = map.validate())
+    throw Failure(invalid + *problem, Failure::Kind::internal);
+  // The same map from both sides, independently of how SurfaceMap stores it.
+  std::optional<MetaMesh> meta = meta_mesh(map);
+  if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
+  const auto pieces = meta_pieces(*meta);
+  if (!pieces)
+    throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"), Failure::Kind::internal);
+  report_meta_mesh(run, *meta, *pieces);
   return std::move(*meta);
+}
+
+MetaMesh validate_map(Run& run, const InterSurfaceMap& map) {
+  run.stage("validate");
+  if (const auto problem = map.validate())
+    throw Failure(invalid_prefix(run) + *problem, Failure::Kind::internal);
+  const auto pieces = meta_pieces(map.meta());
+  if (!pieces) throw Failure(invalid_prefix(run) + "it has no pieces", Failure::Kind::internal);
+  report_meta_mesh(run, map.meta(), *pieces);
+  return map.meta();
 }
 
 void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta) {

@@ -14,6 +14,7 @@
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
+#include "refine/refine_surfaces.hpp"
 #include "tool/tool.hpp"
 
 #include <cmath>
@@ -33,7 +34,13 @@ struct MapVariant {
 };
 
 /// The map options every front end offers (tool/cli.hpp: add_map_options).
+/// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
+/// own, every variant and contender refined) or the symmetric core
+/// (InterSurfaceMap: the domain as side 0, cones released continuously).
+enum class MapCore { surface_map, symmetric };
+
 struct MapSettings {
+  MapCore core = MapCore::surface_map;
   bool hold_features = false;
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
@@ -68,6 +75,9 @@ struct MapSettings {
 void check_settings(const std::string& tool, const MapSettings& settings,
                     const io::MeshFileOptions& mesh_file = {});
 
+/// Scores a map refined on the symmetric core (MapSettings::core).
+using SymmetricMapScore = std::function<double(const InterSurfaceMap&)>;
+
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
@@ -80,6 +90,9 @@ struct MapStage {
   std::string hint;  // what to try when the optimisation fails
   /// A variant scoring below this sends MapSettings::fallback_variants in.
   double retry_below = -HUGE_VAL;
+  /// How maps on the symmetric core are scored (none: their domain ->
+  /// surface efficiency).
+  SymmetricMapScore symmetric_score;
 };
 
 /// Scores a refined map; the variant with the highest score is kept.
@@ -99,8 +112,14 @@ inline std::vector<std::unique_ptr<MapSetup>> only(std::unique_ptr<MapSetup> set
 }
 
 struct MapStageResult {
-  std::unique_ptr<MapSetup> setup;  // the variant kept, refined to full resolution
+  /// The variant kept: its network, progressive mesh and SurfaceMap, refined
+  /// to full resolution on the surface_map core, left at the coarse level of
+  /// the choice on the symmetric one.
+  std::unique_ptr<MapSetup> setup;
   RefineStats stats;
+  /// The symmetric core: the map refined to full resolution (null otherwise).
+  std::unique_ptr<InterSurfaceMap> symmetric;
+  SurfaceRefineStats symmetric_stats;
 };
 
 /// Runs every variant of `settings` in parallel, each deterministic and
@@ -114,7 +133,12 @@ struct MapStageResult {
 /// "features_released" and "map_variants" (per map refined: its variant's settings, contender rank
 /// and candidate, score, efficiencies and whether it was kept). When every variant fails, rethrows
 /// the first variant's Failure, or throws Failure "<tool>: the map optimisation failed on <input>
-/// (<why>); <hint>".
+/// (<why>); <hint>". On the symmetric core (settings.core) each variant's chosen coarse map is
+/// rebuilt as an InterSurfaceMap (side 0 the domain, never refining; side 1 the surface, refined
+/// by its splits; features released unless settings.hold_features; the variant's
+/// inverse-stretch weight, its other energy settings and the curvature weight not applied) and
+/// refined by refine_surfaces instead; a stopped refinement's why is describe_stop's line. The
+/// report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);
@@ -125,6 +149,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
 /// invalid: <why>". The report gets "meta_mesh" (valid, sizes). Returns the
 /// meta-mesh, for write_meta_mesh_output.
 MetaMesh validate_map(Run& run, const SurfaceMap& map);
+/// The same for a map on the symmetric core: InterSurfaceMap::validate (both
+/// sides), the report's "meta_mesh", and a copy of its meta-mesh.
+MetaMesh validate_map(Run& run, const InterSurfaceMap& map);
 /// Writes the meta-mesh to settings.meta_mesh_path, if given (write_output).
 void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta);
 

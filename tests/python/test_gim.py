@@ -151,3 +151,17 @@ def test_an_open_surface_keeps_its_alpha_through_the_file(meshes, tmp_path):
     ism.gim_remesh(meshes["blob"], size=SIZE, output=closed, quiet=True)
     _, none = ism.read_geometry_image(closed, alpha=True)
     assert none is None
+
+
+def test_the_symmetric_core_is_the_tools_too(meshes, tmp_path):
+    blob = meshes["blob"]
+    status, _, err = run_tool("gim-remesh", blob, "-o", tmp_path / "cli.exr", "--size", SIZE,
+                              "--core", "symmetric", "--report", tmp_path / "cli.json", "-q")
+    assert status == 0, err
+    r = ism.gim_remesh(blob, size=SIZE, core="symmetric", quiet=True)
+    cli = ism.read_geometry_image(tmp_path / "cli.exr")
+    assert np.array_equal(r.image.astype(np.float32).view(np.uint32), cli.view(np.uint32))
+    report = json.loads((tmp_path / "cli.json").read_text())
+    assert report["map_core"] == "symmetric" and r.report["map"] == report["map"]
+    with pytest.raises(ValueError, match="core must be"):
+        ism.gim_remesh(blob, size=SIZE, core="spherical", quiet=True)
