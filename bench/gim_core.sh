@@ -28,7 +28,9 @@ for m in $models; do
       python3 - "$work/$tag.json" "$work/$tag.time" "$m" "$metric" "$core" <<'PY'
 import json, sys
 path, timing, model, metric, core = sys.argv[1:]
-wall, user, kb = (open(timing).read().split() + ["-", "-", "0"])[-3:]
+# (the last line: a failed command's status comes first)
+lines = open(timing).read().strip().splitlines() or [""]
+wall, user, kb = (lines[-1].split() + ["-", "-", "0"])[:3]
 try:
     r = json.load(open(path))
     i, m = r["image"], r["map"]

@@ -63,15 +63,16 @@ namespace {
 
 // The symmetric core's refinement of a chosen coarse map (run_map_stage).
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
-                      const std::function<void(double)>& progress, bool hold_features) {
+                      const std::function<void(double)>& progress, const MapSettings& settings) {
   const MapSetup& setup = *result.setup;
   InterSurfaceOptions options;
-  options.hold_features = hold_features;
+  options.hold_features = settings.hold_features;
   options.inverse_weight = variant.inverse_stretch_weight;
   result.symmetric = std::make_unique<InterSurfaceMap>(
       side_from_domain(setup.map->domain(), setup.pm), side_from_pm(setup.pm), options);
   SurfaceRefineOptions refine_options;
   refine_options.progress = progress;
+  refine_options.max_final_sweeps = settings.final_sweeps;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
   } catch (const std::exception& e) {
@@ -129,7 +130,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               std::function<void(double)> report_progress;
               if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
               if (settings.core == MapCore::symmetric) {
-                refine_symmetric(out.result, all[i], report_progress, settings.hold_features);
+                refine_symmetric(out.result, all[i], report_progress, settings);
                 out.score = stage.symmetric_score
                                 ? stage.symmetric_score(*out.result.symmetric)
                                 : out.result.symmetric->measures().forward_efficiency;

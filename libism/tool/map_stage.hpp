@@ -137,8 +137,8 @@ struct MapStageResult {
 /// rebuilt as an InterSurfaceMap (side 0 the domain, never refining; side 1 the surface, refined
 /// by its splits; features released unless settings.hold_features; the variant's
 /// inverse-stretch weight, its other energy settings and the curvature weight not applied) and
-/// refined by refine_surfaces instead; a stopped refinement's why is describe_stop's line. The
-/// report also gets "map_core".
+/// refined by refine_surfaces (at most settings.final_sweeps final sweeps) instead; a stopped
+/// refinement's why is describe_stop's line. The report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);
