@@ -33,14 +33,14 @@ struct MapVariant {
   double anisotropy_threshold = 10.0;
 };
 
-/// The map options every front end offers (tool/cli.hpp: add_map_options).
 /// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
-/// own, every variant and contender refined) or the symmetric core
-/// (InterSurfaceMap: the domain as side 0, cones released continuously).
+/// own) or the symmetric core (InterSurfaceMap: the domain as side 0, cones
+/// released continuously; gim-remesh only, closed surfaces).
 enum class MapCore { surface_map, symmetric };
 
+/// The map options every front end offers (tool/cli.hpp: add_map_options).
 struct MapSettings {
-  MapCore core = MapCore::surface_map;
+  MapCore core = MapCore::surface_map;  // gim-remesh's --core
   bool hold_features = false;
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.
