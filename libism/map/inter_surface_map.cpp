@@ -94,6 +94,38 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
   index_ = build_index(meta_);
   for (int s = 0; s < 2; ++s)
     for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
+  check_density();
+}
+
+void InterSurfaceMap::check_density() const {
+  const auto& d = options_.forward_density;
+  if (!d.empty() && d.size() != meta_.side[1].n_vertices())
+    throw std::invalid_argument("the forward density has " + std::to_string(d.size()) +
+                                " values for " + std::to_string(meta_.side[1].n_vertices()) +
+                                " vertices");
+}
+
+InterSurfaceMap::InterSurfaceMap(MetaMesh meta, MapSideInput side0, MapSideInput side1,
+                                 std::array<std::size_t, 2> applied, InterSurfaceOptions options)
+    : meta_(std::move(meta)), input_{std::move(side0), std::move(side1)}, options_(options) {
+  if (const auto problem = ism::validate(meta_))
+    throw std::invalid_argument("the map to resume is not valid: " + *problem);
+  for (int s = 0; s < 2; ++s) {
+    const MapSideInput& in = input_[s];
+    MetaSide& side = meta_.side[s];
+    if (side.n_vertices() != in.n_vertices || applied[s] > in.splits.size())
+      throw std::invalid_argument("the map to resume does not fit its sides");
+    if (side.positions.empty()) side.positions = in.positions;
+    pinned_[s].assign(in.n_vertices, 0);
+    for (int v : in.base_vertices) pinned_[s][v] = options_.hold_features;
+    next_split_[s] = applied[s];
+  }
+  index_ = build_index(meta_);
+  for (int s = 0; s < 2; ++s) {
+    for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
+    for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
+  }
+  check_density();
 }
 
 FaceLengths InterSurfaceMap::face_lengths(int s, const Triangle& t) const {
@@ -218,7 +250,7 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
   // outside, i.e. a bijection onto what the region covered before. So the
   // other side's faces need not be cut again (for a coarse domain each is a
   // whole face of the octahedron with all its content: O(n) per move).
-  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
+  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
   double sum = 0;
   for (int f : faces) {
     if (energy) {

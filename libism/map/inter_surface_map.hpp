@@ -74,6 +74,11 @@ struct InterSurfaceOptions {
   /// (chart_cell.hpp). Which rule maps better depends on the pair; measured
   /// in docs/results-two-surfaces.md.
   KinkRule kinks = KinkRule::where_needed;
+  /// Per vertex of side 1 (empty: none): the forward term of the energy on
+  /// a face of side 1 is weighted by the mean of this over its corners
+  /// (EnergyTerms::density1; the remeshers' curvature density). The
+  /// measures are not weighted. Its size must be side 1's n_vertices.
+  std::vector<double> forward_density;
 };
 
 /// What the local operations did (for reports and tests).
@@ -95,8 +100,17 @@ class InterSurfaceMap {
  public:
   /// The trivial map between the two base meshes (same connectivity, base
   /// vertex i of one on base vertex i of the other, no crossing). Throws
-  /// std::invalid_argument if the base meshes differ or a metric is missing.
+  /// std::invalid_argument if the base meshes differ, a metric is missing or
+  /// the forward density has the wrong size.
   InterSurfaceMap(MapSideInput side0, MapSideInput side1, InterSurfaceOptions options = {});
+
+  /// A map resumed at an intermediate resolution: `meta` is a valid map
+  /// between the two sides' meshes after `applied[s]` of their splits, in
+  /// the inputs' vertex numbering (e.g. meta_mesh() of a SurfaceMap refined
+  /// part of the way); the inputs' base vertices are the features. Throws
+  /// std::invalid_argument if it does not validate or does not fit.
+  InterSurfaceMap(MetaMesh meta, MapSideInput side0, MapSideInput side1,
+                  std::array<std::size_t, 2> applied, InterSurfaceOptions options = {});
 
   const MetaMesh& meta() const { return meta_; }
   const InterSurfaceOptions& options() const { return options_; }
@@ -236,6 +250,8 @@ class InterSurfaceMap {
   SplitUndo split_undo(int side, const Chart& chart, const VertexSplit& split) const;
   void restore(int side, const SplitUndo& undo);
   FaceLengths face_lengths(int side, const Triangle& t) const;
+  /// Throws std::invalid_argument if the forward density does not fit side 1.
+  void check_density() const;
   double face_area(int side, int f) const;
   std::vector<int> ring_faces(int side, int v) const;
   int add_edge(int side, int u, int v);

@@ -790,7 +790,7 @@ struct EvaluateBuffers {
 double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Proposal* out) const {
   const int s = chart.s, t = chart.t;
   const MetaSide& S = meta_.side[s];
-  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight};
+  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
   const std::size_t A = chart.anchors.size();
   auto eval_fail = [&](int where) {
     chart_failure_ = 1000 + where;
@@ -813,16 +813,25 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   }
   auto node_of = [&](int ref) { return ref >= 0 ? chart.ring_anchor[ref] : inner_node[-1 - ref]; };
 
-  auto sides = [&](const std::array<Vec2, 3>& mine, const std::array<Vec2, 3>& theirs, double& e) {
-    e = s == 0 ? triangle_energy(mine, theirs, terms) : triangle_energy(theirs, mine, terms);
+  const MetaSide& side1 = meta_.side[1];
+  // A triangle of s over one face of t (`face`: s's face, t's is the fast
+  // chart's single face).
+  auto sides = [&](const std::array<Vec2, 3>& mine, const std::array<Vec2, 3>& theirs, int face,
+                   double& e) {
+    e = s == 0
+            ? triangle_energy(mine, theirs, terms, terms.forward_weight(side1, chart.single_face))
+            : triangle_energy(theirs, mine, terms, terms.forward_weight(side1, face));
   };
-  if (chart.kind != Chart::general && !out) {
+  // (A developed chart of side 0 spans several faces of side 1: with a
+  // forward weight their pieces are weighed apart, below.)
+  if (chart.kind != Chart::general && !out &&
+      (s == 1 || chart.kind == Chart::fast || terms.density1.empty())) {
     double sum = 0;
     for (const auto& tri : layout.tris) {
       const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
                                   pos[node_of(tri.ref[2])]};
       double e;
-      sides(tri.shape, q, e);
+      sides(tri.shape, q, tri.face, e);
       sum += e;
       if (!(sum < HUGE_VAL)) return eval_fail(31);
     }
@@ -846,7 +855,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
                                   pos[node_of(tri.ref[2])]};
       if (!(orient(q[0], q[1], q[2]) > 0)) return eval_fail(140);
       double e;
-      sides(tri.shape, q, e);
+      sides(tri.shape, q, tri.face, e);
       sum += e;
       if (!(sum < HUGE_VAL)) return eval_fail(31);
     }
@@ -1135,7 +1144,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       }
       if (h_found < 0) return eval_fail(205);
     }
-    const double e = piece_energy(piece, terms);
+    const double e = piece_energy(piece, terms, terms.forward_weight(side1, piece.face[1]));
     return e < HUGE_VAL ? e : eval_fail(207);
   };
   auto cell_area = [&](std::span<const int> cell) { return polygon_area(pos, cell); };
@@ -1211,6 +1220,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       // The triangles of t inside the ring: their stretch summed per face
       // of s (one affine map of the chart to s each), a cut one shared by
       // the areas of its parts. The other cut fragments: their cells.
+      // On side 0 the m sums are the forward term: weighed per face of
+      // side 1 (t) as they are added.
+      auto m_weight = [&](const Chart::Fragment& fragment) {
+        return s == 0 ? terms.forward_weight(side1, fragment.face) : 1.0;
+      };
       auto& per_tri = buffers.per_tri;
       per_tri.assign(tri_chart.size(), StretchMoments{});
       auto& part = buffers.part;
@@ -1223,7 +1237,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         if (fragment.summable && !cut[f]) {
           const int ti = tri_of(fragment.inside);
           if (ti < 0) return eval_fail(171);
-          per_tri[ti].add(fragment.moments);
+          per_tri[ti].add(fragment.moments, 1, m_weight(fragment));
         } else if (fragment.summable) {
           double covered = 0;
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
@@ -1234,7 +1248,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             continue;
           }
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
-            if (part[i] > 0) per_tri[i].add(fragment.moments, part[i] / fragment.moments.area);
+            if (part[i] > 0)
+              per_tri[i].add(fragment.moments, part[i] / fragment.moments.area, m_weight(fragment));
         } else if (!cut[f]) {
           sum += cell_energy(fragment.nodes, fragment.inside, fragment.face, &fragment.other);
         } else {
@@ -1247,7 +1262,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         const auto [x, y] =
             per_tri[i].evaluate(affine_linear_part(tri_chart[i], layout.tris[i].shape));
         if (!(x < HUGE_VAL)) return eval_fail(182);
-        sum += s == 0 ? stretch_energy(x, y, terms) : stretch_energy(y, x, terms);
+        sum += s == 0
+                   ? stretch_energy(x, y, terms)
+                   : stretch_energy(y, x, terms, terms.forward_weight(side1, layout.tris[i].face));
       }
       // Each fragment to cut: its sides (split at the new crossings) and the
       // pieces of inner edges in it, cut into cells.

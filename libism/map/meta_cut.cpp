@@ -465,13 +465,18 @@ std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex
       if (polygon_area(P) > 0 && polygon_area(Q) > 0) {
         // piece_energy of a triangle: its own fan when positive on both
         // sides, summed from 0 as piece_energy does (so -0 becomes +0).
-        sum += best_fan(P, Q) < 0 ? HUGE_VAL : 0.0 + triangle_energy(P, Q, terms);
+        sum += best_fan(P, Q) < 0
+                   ? HUGE_VAL
+                   : 0.0 + triangle_energy(
+                               P, Q, terms,
+                               terms.forward_weight(meta.side[1], s == 1 ? f : whole.face));
         return std::nullopt;
       }
     }
   }
-  return visit_pieces(meta, index, s, f,
-                      [&](const MetaPiece& p) { sum += piece_energy(p, terms); });
+  return visit_pieces(meta, index, s, f, [&](const MetaPiece& p) {
+    sum += piece_energy(p, terms, terms.forward_weight(meta.side[1], p.face[1]));
+  });
 }
 
 bool planar_cells(const std::vector<Vec2>& position,
@@ -819,9 +824,9 @@ bool StretchMoments::add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>
   return true;
 }
 
-void StretchMoments::add(const StretchMoments& other, double share) {
+void StretchMoments::add(const StretchMoments& other, double share, double m_weight) {
   area += share * other.area;
-  for (int k = 0; k < 3; ++k) m[k] += share * other.m[k], n[k] += share * other.n[k];
+  for (int k = 0; k < 3; ++k) m[k] += share * m_weight * other.m[k], n[k] += share * other.n[k];
 }
 
 std::array<double, 2> StretchMoments::evaluate(const Eigen::Matrix2d& A) const {

@@ -145,6 +145,16 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece);
 struct EnergyTerms {
   double area0 = 1, area1 = 1;  // total areas of the sides
   double inverse_weight = 1;
+  /// Per vertex of side 1 (empty: all 1): the forward term of a piece is
+  /// weighted by the mean of this over the corners of its face of side 1
+  /// (a curvature density, MapOptions::curvature_weight).
+  std::span<const double> density1 = {};
+  /// That weight for face f of side 1.
+  double forward_weight(const MetaSide& side1, int f) const {
+    if (density1.empty()) return 1.0;
+    const Triangle& t = side1.faces[f];
+    return (density1[t[0]] + density1[t[1]] + density1[t[2]]) / 3;
+  }
 };
 
 /// The stretch of one affine triangle, corners p on side 0 and q on side 1
@@ -177,8 +187,9 @@ struct StretchMoments {
   double n[3] = {};  // Σ area_c·B⁻¹B⁻ᵀ
   /// False (nothing added) if either triangle is not positive.
   bool add(const std::array<Vec2, 3>& c, const std::array<Vec2, 3>& b);
-  /// Adds another's sums, scaled by `share` (a part of its triangles).
-  void add(const StretchMoments& other, double share = 1);
+  /// Adds another's sums, scaled by `share` (a part of its triangles), its
+  /// m sums also by `m_weight`.
+  void add(const StretchMoments& other, double share = 1, double m_weight = 1);
   std::array<double, 2> evaluate(const Eigen::Matrix2d& A) const;
 };
 

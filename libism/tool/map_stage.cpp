@@ -1,6 +1,7 @@
 #include "tool/map_stage.hpp"
 
 #include "io/io.hpp"
+#include "mesh/curvature.hpp"
 #include "tool/failure.hpp"
 
 #include <tbb/task_group.h>
@@ -61,15 +62,30 @@ void MapSettings::set_anisotropy_threshold(double ratio) {
 
 namespace {
 
-// The symmetric core's refinement of a chosen coarse map (run_map_stage).
+// The symmetric core's refinement of a chosen coarse map (run_map_stage):
+// the coarse map, refined by SurfaceMap to kSymmetricFromVertices surface
+// vertices (as the network choice ranks candidates; there its discrete cone
+// moves place the cones), is resumed as an InterSurfaceMap and refined on.
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
                       const std::function<void(double)>& progress, const MapSettings& settings) {
-  const MapSetup& setup = *result.setup;
+  SurfaceMap& coarse = *result.setup->map;
+  if (coarse.n_vertices() < kSymmetricFromVertices) {
+    RefineOptions options;
+    options.stop_at_vertices = kSymmetricFromVertices;
+    refine(coarse, options);
+  }
+  auto meta = meta_mesh(coarse);
+  if (!meta) throw std::runtime_error("the coarse map does not validate");
   InterSurfaceOptions options;
   options.hold_features = settings.hold_features;
   options.inverse_weight = variant.inverse_stretch_weight;
+  const ProgressiveMesh& pm = result.setup->pm;
+  // The same curvature weight as the coarse map's.
+  if (const double w = coarse.options().curvature_weight; w > 0)
+    options.forward_density = curvature_density(replay(pm), w);
   result.symmetric = std::make_unique<InterSurfaceMap>(
-      side_from_domain(setup.map->domain(), setup.pm), side_from_pm(setup.pm), options);
+      std::move(*meta), side_from_domain(coarse.domain(), pm), side_from_pm(pm),
+      std::array<std::size_t, 2>{0, coarse.splits_applied()}, options);
   SurfaceRefineOptions refine_options;
   refine_options.progress = progress;
   refine_options.max_final_sweeps = settings.final_sweeps;
@@ -131,9 +147,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
               if (settings.core == MapCore::symmetric) {
                 refine_symmetric(out.result, all[i], report_progress, settings);
-                out.score = stage.symmetric_score
-                                ? stage.symmetric_score(*out.result.symmetric)
-                                : out.result.symmetric->measures().forward_efficiency;
+                out.score = out.result.symmetric->measures().forward_efficiency;
               } else {
                 RefineOptions options;
                 options.max_final_sweeps = settings.final_sweeps;
@@ -183,7 +197,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   Json& r = run.report();
   r["map_core"] = settings.core == MapCore::symmetric ? "symmetric" : "surface_map";
   r["features_released"] = !settings.hold_features;
-  r["curvature_weight"] = settings.core == MapCore::symmetric ? 0.0 : settings.curvature_weight;
+  r["curvature_weight"] = settings.curvature_weight;
   Json& variants = r["map_variants"] = Json::array();
   std::size_t used = 0, kept_position = 0;
   for (std::size_t i = 0; i < n; ++i) {

@@ -35,8 +35,11 @@ struct MapVariant {
 
 /// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
 /// own) or the symmetric core (InterSurfaceMap: the domain as side 0, cones
-/// released continuously; gim-remesh only, closed surfaces).
+/// released continuously; gim-remesh only, closed surfaces). The symmetric
+/// core takes over the coarse map at kSymmetricFromVertices surface
+/// vertices, where SurfaceMap's discrete cone moves have placed the cones.
 enum class MapCore { surface_map, symmetric };
+inline constexpr std::size_t kSymmetricFromVertices = 1000;
 
 /// The map options every front end offers (tool/cli.hpp: add_map_options).
 struct MapSettings {
@@ -75,9 +78,6 @@ struct MapSettings {
 void check_settings(const std::string& tool, const MapSettings& settings,
                     const io::MeshFileOptions& mesh_file = {});
 
-/// Scores a map refined on the symmetric core (MapSettings::core).
-using SymmetricMapScore = std::function<double(const InterSurfaceMap&)>;
-
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
@@ -90,9 +90,6 @@ struct MapStage {
   std::string hint;  // what to try when the optimisation fails
   /// A variant scoring below this sends MapSettings::fallback_variants in.
   double retry_below = -HUGE_VAL;
-  /// How maps on the symmetric core are scored (none: their domain ->
-  /// surface efficiency).
-  SymmetricMapScore symmetric_score;
 };
 
 /// Scores a refined map; the variant with the highest score is kept.
@@ -134,11 +131,14 @@ struct MapStageResult {
 /// and candidate, score, efficiencies and whether it was kept). When every variant fails, rethrows
 /// the first variant's Failure, or throws Failure "<tool>: the map optimisation failed on <input>
 /// (<why>); <hint>". On the symmetric core (settings.core) each variant's chosen coarse map is
-/// rebuilt as an InterSurfaceMap (side 0 the domain, never refining; side 1 the surface, refined
-/// by its splits; features released unless settings.hold_features; the variant's
-/// inverse-stretch weight, its other energy settings and the curvature weight not applied) and
-/// refined by refine_surfaces (at most settings.final_sweeps final sweeps) instead; a stopped
-/// refinement's why is describe_stop's line. The report also gets "map_core".
+/// refined by SurfaceMap to kSymmetricFromVertices surface vertices (the network choice has
+/// usually done so already), resumed as an InterSurfaceMap (side 0 the domain, never refining;
+/// side 1 the surface, refined by the rest of its splits; features released unless
+/// settings.hold_features; the variant's inverse-stretch weight and the curvature weight, as a
+/// forward density; its other energy settings not applied from there on) and refined by
+/// refine_surfaces (at most
+/// settings.final_sweeps final sweeps); it is scored by its domain -> surface efficiency; a
+/// stopped refinement's why is describe_stop's line. The report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

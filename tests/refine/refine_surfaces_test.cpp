@@ -6,9 +6,13 @@
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "map/inter_surface_map.hpp"
+#include "map/meta_mesh.hpp"
+#include "map/surface_map.hpp"
+#include "mesh/curvature.hpp"
 #include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
+#include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
 
@@ -63,6 +67,119 @@ TEST(RefineSurfaces, EveryStepIsReportedAndEachGainIsTheDropOfTheEnergy) {
       "sphere %zu / blob %zu faces: %zu splits (worst energy ratio %.3f), %zu moves, "
       "symmetric efficiency %.4f\n",
       a.n_faces(), b.n_faces(), splits, worst_split, moves, map.measures().symmetric_efficiency);
+}
+
+/// A generated blob's progressive mesh down to the octahedron, and the
+/// equilateral octahedron it maps to.
+struct BlobOverOctahedron {
+  ProgressiveMesh pm;
+  DomainGeometry domain;
+};
+BlobOverOctahedron blob_over_octahedron(std::size_t faces) {
+  const TriangleMesh octahedron = domain::octahedron();
+  return {simplify_constrained(trace_octahedral_network(shapes::blob(faces, 2)), octahedron),
+          DomainGeometry(octahedron, octahedron_lengths(octahedron, DomainMetric::equilateral))};
+}
+
+// The symmetric core resumed from a SurfaceMap refined part of the way (as
+// gim-remesh's --core symmetric does): the same map at the start (its
+// measures equal SurfaceMap's), then every step valid and each gain the
+// drop of the energy, to full resolution; a map that does not fit is
+// refused.
+TEST(RefineSurfaces, ResumesASurfaceMapRefinedPartOfTheWay) {
+  const auto [pm, domain] = blob_over_octahedron(800);
+  SurfaceMap coarse(domain, pm);
+  RefineOptions coarse_options;
+  coarse_options.stop_at_vertices = 150;
+  refine(coarse, coarse_options);
+  ASSERT_EQ(coarse.n_vertices(), 150u);
+  const auto meta = meta_mesh(coarse);
+  ASSERT_TRUE(meta);
+  const std::array<std::size_t, 2> applied{0, coarse.splits_applied()};
+
+  InterSurfaceMap map(*meta, side_from_domain(domain, pm), side_from_pm(pm), applied);
+  EXPECT_FALSE(map.validate());
+  EXPECT_EQ(map.n_vertices(1), 150u);
+  EXPECT_EQ(map.splits_applied(1), coarse.splits_applied());
+  const MapMeasures at_start = map.measures(), surface_map = coarse.measures();
+  EXPECT_NEAR(at_start.symmetric_efficiency, surface_map.symmetric_efficiency, 1e-9);
+  EXPECT_NEAR(at_start.forward_efficiency, surface_map.forward_efficiency, 1e-9);
+
+  SurfaceRefineOptions options;
+  options.validate_each_step = true;
+  double energy = map.energy();
+  std::size_t steps = 0;
+  options.on_step = [&](const SurfaceStep& step) {
+    const double after = map.energy();
+    if (step.kind == SurfaceStep::optimise) {
+      EXPECT_GT(step.gain, 0.0);
+      EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    }
+    energy = after;
+    ++steps;
+  };
+  refine_surfaces(map, options);
+  EXPECT_EQ(map.n_faces(1), replay(pm).n_faces());
+  EXPECT_FALSE(map.validate());
+  EXPECT_GT(steps, pm.splits.size() - applied[1]);
+  const double efficiency = map.measures().symmetric_efficiency;
+  EXPECT_GT(efficiency, 0.9);
+  std::printf("blob %zu faces resumed at 150 vertices: symmetric efficiency %.4f -> %.4f\n",
+              map.n_faces(1), at_start.symmetric_efficiency, efficiency);
+
+  // Refused: more splits applied than the side has, and a broken map (one
+  // crossing dropped from one of its two edges).
+  EXPECT_THROW(InterSurfaceMap(*meta, side_from_domain(domain, pm), side_from_pm(pm),
+                               {0, pm.splits.size() + 1}),
+               std::invalid_argument);
+  MetaMesh broken = *meta;
+  auto crossed = std::find_if(broken.side[1].crossings.begin(), broken.side[1].crossings.end(),
+                              [](const auto& list) { return !list.empty(); });
+  ASSERT_NE(crossed, broken.side[1].crossings.end());
+  crossed->pop_back();
+  EXPECT_THROW(InterSurfaceMap(broken, side_from_domain(domain, pm), side_from_pm(pm), applied),
+               std::invalid_argument);
+}
+
+// A forward density (the remeshers' curvature weight) weighs the forward
+// term of the energy per face of side 1 and nothing else: with density c
+// everywhere the energy is c times the forward part plus the inverse one,
+// and a map refined with a curvature density keeps every step valid, each
+// gain the drop of that weighted energy.
+TEST(RefineSurfaces, ForwardDensityWeighsTheForwardTerm) {
+  const auto [pm, domain] = blob_over_octahedron(600);
+  auto energy_with = [&](double c) {
+    InterSurfaceOptions options;
+    options.forward_density.assign(pm.base.n_vertices(), c);
+    InterSurfaceMap map(side_from_domain(domain, pm), side_from_pm(pm), options);
+    return map.energy();
+  };
+  const double plain = InterSurfaceMap(side_from_domain(domain, pm), side_from_pm(pm)).energy();
+  const double e0 = energy_with(0), e1 = energy_with(1), e3 = energy_with(3);
+  EXPECT_EQ(e1, plain);
+  EXPECT_GT(e0, 0.0);
+  EXPECT_LT(e0, e1);
+  EXPECT_NEAR(e3 - e0, 3 * (e1 - e0), 1e-9 * e3);
+  InterSurfaceOptions short_density;
+  short_density.forward_density.assign(3, 1.0);
+  EXPECT_THROW(InterSurfaceMap(side_from_domain(domain, pm), side_from_pm(pm), short_density),
+               std::invalid_argument);
+
+  InterSurfaceOptions options;
+  options.forward_density = curvature_density(replay(pm), 0.5);
+  InterSurfaceMap map(side_from_domain(domain, pm), side_from_pm(pm), options);
+  SurfaceRefineOptions refine_options;
+  refine_options.validate_each_step = true;
+  double energy = map.energy();
+  refine_options.on_step = [&](const SurfaceStep& step) {
+    const double after = map.energy();
+    if (step.kind == SurfaceStep::optimise) EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    energy = after;
+  };
+  refine_surfaces(map, refine_options);
+  EXPECT_FALSE(map.validate());
+  EXPECT_EQ(map.n_faces(1), replay(pm).n_faces());
+  EXPECT_GT(map.measures().symmetric_efficiency, 0.9);
 }
 
 // fandisk (sharp creases, flat panels) on the equilateral octahedron: some

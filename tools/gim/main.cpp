@@ -26,8 +26,8 @@ int main(int argc, char** argv) {
   tool::add_map_options(app, o.map);
   app.add_option("--core", o.map.core,
                  "Map core: surface-map (default: every variant refined, the best kept) or "
-                 "symmetric (the one map both sides refine, paper §5; closed surfaces, the first "
-                 "variant only; slower)")
+                 "symmetric (the one map both sides refine, paper §5, taking each coarse map "
+                 "over at 1000 surface vertices; closed surfaces)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, tool::MapCore>{
           {"surface-map", tool::MapCore::surface_map}, {"symmetric", tool::MapCore::symmetric}}));
   app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
