@@ -72,7 +72,6 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
                                                   : face_lengths(s, side.faces[f]));
     if (!build_edges(side)) throw std::invalid_argument("a base mesh is not a closed manifold");
     side.crossings.assign(side.edges.size(), {});
-    active_[s] = nb;
   }
   // Base face f of both sides: the same base vertices in the same order.
   std::array<std::vector<int>, 2> base_of;
@@ -91,18 +90,22 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
     meta_.side[1].location[v1].vertex = v0;
     pinned_[0][v0] = pinned_[1][v1] = options_.hold_features;
   }
-  index_ = build_index(meta_);
-  for (int s = 0; s < 2; ++s)
-    for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
-  check_density();
+  index_and_measure();
 }
 
-void InterSurfaceMap::check_density() const {
+void InterSurfaceMap::index_and_measure() {
   const auto& d = options_.forward_density;
   if (!d.empty() && d.size() != meta_.side[1].n_vertices())
     throw std::invalid_argument("the forward density has " + std::to_string(d.size()) +
                                 " values for " + std::to_string(meta_.side[1].n_vertices()) +
                                 " vertices");
+  index_ = build_index(meta_);
+  for (int s = 0; s < 2; ++s) {
+    active_[s] = 0;
+    for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
+    area_[s] = 0;
+    for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
+  }
 }
 
 InterSurfaceMap::InterSurfaceMap(MetaMesh meta, MapSideInput side0, MapSideInput side1,
@@ -120,12 +123,7 @@ InterSurfaceMap::InterSurfaceMap(MetaMesh meta, MapSideInput side0, MapSideInput
     for (int v : in.base_vertices) pinned_[s][v] = options_.hold_features;
     next_split_[s] = applied[s];
   }
-  index_ = build_index(meta_);
-  for (int s = 0; s < 2; ++s) {
-    for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
-    for (std::size_t f = 0; f < meta_.side[s].faces.size(); ++f) area_[s] += face_area(s, int(f));
-  }
-  check_density();
+  index_and_measure();
 }
 
 FaceLengths InterSurfaceMap::face_lengths(int s, const Triangle& t) const {

@@ -250,8 +250,10 @@ class InterSurfaceMap {
   SplitUndo split_undo(int side, const Chart& chart, const VertexSplit& split) const;
   void restore(int side, const SplitUndo& undo);
   FaceLengths face_lengths(int side, const Triangle& t) const;
-  /// Throws std::invalid_argument if the forward density does not fit side 1.
-  void check_density() const;
+  /// The end of both constructors: the forward density checked against side
+  /// 1 (std::invalid_argument), the index built, active vertices counted and
+  /// areas summed.
+  void index_and_measure();
   double face_area(int side, int f) const;
   std::vector<int> ring_faces(int side, int v) const;
   int add_edge(int side, int u, int v);

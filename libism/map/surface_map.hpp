@@ -163,6 +163,9 @@ class SurfaceMap {
 
   const DomainGeometry& domain() const { return domain_; }
   const MapOptions& options() const { return options_; }
+  /// Per vertex of M² (full resolution): the curvature density that weighs
+  /// the forward stretch (forward_weight); empty when curvature_weight is 0.
+  const std::vector<double>& forward_density() const { return forward_density_; }
   /// Whether domain vertex x stays on its feature (DomainGeometry::is_fixed).
   bool is_fixed(int x) const { return domain_.is_fixed(x); }
   std::size_t n_vertices() const { return active_vertices_; }

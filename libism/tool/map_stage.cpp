@@ -1,7 +1,6 @@
 #include "tool/map_stage.hpp"
 
 #include "io/io.hpp"
-#include "mesh/curvature.hpp"
 #include "tool/failure.hpp"
 
 #include <tbb/task_group.h>
@@ -79,10 +78,8 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   InterSurfaceOptions options;
   options.hold_features = settings.hold_features;
   options.inverse_weight = variant.inverse_stretch_weight;
+  options.forward_density = coarse.forward_density();  // the same curvature weight
   const ProgressiveMesh& pm = result.setup->pm;
-  // The same curvature weight as the coarse map's.
-  if (const double w = coarse.options().curvature_weight; w > 0)
-    options.forward_density = curvature_density(replay(pm), w);
   result.symmetric = std::make_unique<InterSurfaceMap>(
       std::move(*meta), side_from_domain(coarse.domain(), pm), side_from_pm(pm),
       std::array<std::size_t, 2>{0, coarse.splits_applied()}, options);
