@@ -226,6 +226,14 @@ struct MapArguments {
   }
 };
 
+// core= of the tools that offer the symmetric core (tool/cli.hpp: add_core_option).
+tool::MapCore map_core(const std::string& core) {
+  if (core == "symmetric") return tool::MapCore::symmetric;
+  if (core != "surface-map")
+    throw py::value_error("core must be 'surface-map' or 'symmetric', got '" + core + "'");
+  return tool::MapCore::surface_map;
+}
+
 tool::CommonOptions common_options(const py::object& report, bool quiet) {
   return {.quiet = quiet, .report_path = optional_path(report), .cap_address_space = false};
 }
@@ -431,10 +439,7 @@ PYBIND11_MODULE(ism, m) {
         MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
                      curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
-        if (core == "symmetric")
-          o.map.core = tool::MapCore::symmetric;
-        else if (core != "surface-map")
-          throw py::value_error("core must be 'surface-map' or 'symmetric', got '" + core + "'");
+        o.map.core = map_core(core);
         auto [r, rep] =
             run_pipeline("gim-remesh", &pipeline::gim_remesh, o, common_options(report, quiet));
         const py::ssize_t n = r.image.n;
@@ -469,7 +474,7 @@ PYBIND11_MODULE(ism, m) {
       [semireg_result](
           const py::object& surface, const py::object& faces, const py::object& base,
           const py::object& base_vertices, std::size_t base_size, int levels, bool grid_points,
-          bool hold_features, int final_sweeps, std::size_t contenders,
+          const std::string& core, bool hold_features, int final_sweeps, std::size_t contenders,
           std::optional<double> inverse_weight, std::optional<double> curvature_weight,
           std::optional<double> anisotropy_weight, std::optional<double> anisotropy_threshold,
           const py::object& output, const py::object& write_base, int draco_bits, bool glb_draco,
@@ -498,6 +503,7 @@ PYBIND11_MODULE(ism, m) {
         MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
                      curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
+        o.map.core = map_core(core);
         auto [r, rep] =
             run_pipeline("semireg", &pipeline::semireg, o, common_options(report, quiet));
         return semireg_result(
@@ -508,7 +514,7 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "base"_a = py::none(),
       "base_vertices"_a = py::none(), "base_size"_a = 0, "levels"_a = 4, "grid_points"_a = false,
-      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "core"_a = "surface-map", "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
       "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "write_base"_a = py::none(), "draco_bits"_a = 14,
@@ -519,7 +525,8 @@ PYBIND11_MODULE(ism, m) {
       "Semi-regular remesh of a surface of any genus, closed or open, as the semireg tool (same\n"
       "options and defaults; grid_points is --grid-points). Exactly one base: base (a mesh\n"
       "path or a tuple (V, F)), base_vertices (a file path, vertex indices or points) or\n"
-      "base_size (decimate to N vertices). output and\n"
+      "base_size (decimate to N vertices). core 'symmetric': the one map both sides refine\n"
+      "(closed surfaces only). output and\n"
       "write_base (.obj .ply .off .stl .drc .glb), dump_patches, meta_mesh, report are written\n"
       "when given.");
 

@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -269,10 +270,6 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     throw tool::Failure("semireg: --base-size must be 4.." + std::to_string(1 << 24) + ", got " +
                         std::to_string(o.base_size));
   tool::check_settings("semireg", o.map, o.mesh_file);
-  if (o.map.core == tool::MapCore::symmetric)
-    throw tool::Failure(
-        "semireg: the symmetric map core is not available here yet (gim-remesh "
-        "--core symmetric is)");
   tool::require_mesh_extension(run, "-o", o.output);
   tool::require_mesh_extension(run, "--write-base", o.write_base);
   tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
@@ -293,6 +290,10 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     throw tool::Failure(input + ": " + e.what());
   }
   const bool open = !capped.loops.empty();
+  if (open && o.map.core == tool::MapCore::symmetric)
+    throw tool::Failure("semireg: " + input + " has " + loops_word(capped.loops.size()) +
+                        "; --core symmetric maps closed surfaces only (the default core maps "
+                        "open ones)");
   if (o.base_size) tool::check_base_size(run, o.base_size, surface.n_vertices(), input);
 
   // Candidate bases: the user's, or decimations with different priorities
@@ -353,13 +354,14 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   tool::MapSettings settings = o.map;
   if (open && settings.contenders == 0) settings.contenders = 2;
   // The remesh a map gives over base i (on an open surface: the base face's
-  // pieces of its closed domain).
-  auto sample_remesh = [&](const SurfaceMap& map, std::size_t i) {
-    const MapSampler sampler(map);
+  // pieces of its closed domain), the map's surface point of a domain point
+  // from `locate`.
+  using Locate = std::function<std::optional<SurfacePoint>(int, const Eigen::Vector3d&)>;
+  auto sample_remesh = [&](const Locate& locate, std::size_t i) {
     const auto point = [&](int f, const Eigen::Vector3d& bary) {
       const auto [face, at] =
           open ? bounded[i]->locate(f, bary) : std::pair<int, Eigen::Vector3d>{f, bary};
-      const auto s = sampler.surface_point(face, at);
+      const auto s = locate(face, at);
       if (!s) throw std::runtime_error("a sample fell outside the map");
       return s->position;
     };
@@ -421,11 +423,13 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
           const std::lock_guard<std::mutex> lock(domains_mutex);
           i = base_of_domain.at(&m.domain());
         }
-        return efficiency - double(sample_remesh(m, i).second.folds_after);
+        const MapSampler sampler(m);
+        const Locate locate = [&](int f, const Eigen::Vector3d& b) {
+          return sampler.surface_point(f, b);
+        };
+        return efficiency - double(sample_remesh(locate, i).second.folds_after);
       });
   const auto& chosen = staged.setup;
-  const RefineStats& stats = staged.stats;
-  const SurfaceMap& map = *chosen->map;
   const BaseCandidate& chosen_base = bases[candidate_base[chosen->candidate]];
   const std::optional<BoundedBase>& chosen_bounded = bounded[candidate_base[chosen->candidate]];
   const TriangleMesh& base = chosen_base.mesh;
@@ -439,13 +443,36 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   run.report()["partition"] =
       partition_report(chosen->network, open ? chosen_bounded->domain : base, chosen->pm);
 
-  const MetaMesh meta = tool::validate_map(run, map);
+  // What the rest needs of the map, from either core: the meta-mesh, the
+  // surface point of a domain point, the measures on the input and their
+  // report (the symmetric core maps closed surfaces only).
+  MetaMesh meta;
+  Locate locate;
+  MapMeasures m;
+  Json map_json;
+  std::unique_ptr<MapSampler> map_sampler;
+  std::unique_ptr<DomainSurfaceSampler> domain_sampler;
+  if (!staged.symmetric) {
+    const SurfaceMap& map = *chosen->map;
+    meta = tool::validate_map(run, map);
+    map_sampler = std::make_unique<MapSampler>(map);
+    m = map.measures(input_faces.of(map));
+    map_json = map_report(map, m, staged.stats);
+  } else {
+    meta = tool::validate_map(run, *staged.symmetric);
+    domain_sampler = std::make_unique<DomainSurfaceSampler>(meta, chosen->map->domain());
+    m = staged.symmetric->measures();
+    map_json = map_report(*staged.symmetric, m, staged.symmetric_stats);
+  }
+  locate = [&](int f, const Eigen::Vector3d& b) {
+    return map_sampler ? map_sampler->surface_point(f, b) : domain_sampler->surface_point(f, b);
+  };
 
   run.stage("sample");
   SemiregResult result;
   TriangleMesh& remesh = result.remesh;
   UnfoldReport unfolded;
-  std::tie(remesh, unfolded) = sample_remesh(map, candidate_base[chosen->candidate]);
+  std::tie(remesh, unfolded) = sample_remesh(locate, candidate_base[chosen->candidate]);
   // The base actually used: its vertices where the remesh has them (the
   // map's images of the base vertices, unless a fold re-sampled one).
   TriangleMesh& used_base = result.base;
@@ -463,13 +490,11 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   });
 
   run.stage("measure");
-  const std::vector<char> on_input = input_faces.of(map);
-  const MapMeasures m = map.measures(on_input);
   const SurfaceDistance distance = surface_distance(surface, remesh);
   Json& r = run.report();
   r["levels"] = o.levels;
   r["metric"] = "equilateral";
-  r["map"] = map_report(map, m, stats);
+  r["map"] = map_json;
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();

@@ -8,6 +8,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <map>
+#include <string>
+
 namespace ism::tool {
 
 /// --version, -q/--quiet, --report FILE and --max-memory SIZE, the same in
@@ -79,6 +82,18 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
          [&settings](const double& r) { settings.set_anisotropy_threshold(r); },
          "Ratio of the map's singular values above which the anisotropy penalty bites")
       ->check(CLI::Range(1.0, 1e6));
+}
+
+/// --core: which map core refines the chosen coarse map (MapSettings::core),
+/// for the front ends that offer the symmetric one (closed surfaces).
+inline void add_core_option(CLI::App& app, MapSettings& settings) {
+  app.add_option("--core", settings.core,
+                 "Map core: surface-map (default: every variant refined, the best kept) or "
+                 "symmetric (the one map both sides refine, paper §5, taking each coarse map "
+                 "over at " +
+                     std::to_string(kSymmetricFromVertices) + " surface vertices; closed surfaces)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, MapCore>{
+          {"surface-map", MapCore::surface_map}, {"symmetric", MapCore::symmetric}}));
 }
 
 }  // namespace ism::tool

@@ -35,7 +35,7 @@ struct MapVariant {
 
 /// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
 /// own) or the symmetric core (InterSurfaceMap: the domain as side 0, cones
-/// released continuously; gim-remesh only, closed surfaces). The symmetric
+/// released continuously; gim-remesh and semireg, closed surfaces). The symmetric
 /// core takes over the coarse map at kSymmetricFromVertices surface
 /// vertices, where SurfaceMap's discrete cone moves have placed the cones.
 enum class MapCore { surface_map, symmetric };
@@ -43,7 +43,7 @@ inline constexpr std::size_t kSymmetricFromVertices = 1000;
 
 /// The map options every front end offers (tool/cli.hpp: add_map_options).
 struct MapSettings {
-  MapCore core = MapCore::surface_map;  // gim-remesh's --core
+  MapCore core = MapCore::surface_map;  // --core (gim-remesh, semireg)
   bool hold_features = false;
   int final_sweeps = 8;  // RefineOptions::max_final_sweeps
   /// Refined side by side; --inverse-weight W replaces them by {W, 2}.

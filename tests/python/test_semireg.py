@@ -65,3 +65,20 @@ def test_every_glb_passes_the_khronos_validator(runs, validate_gltf):
     out, _ = runs
     reports = validate_gltf([out / "py.glb", out / "py_base.glb"])
     assert len(reports) == 2
+
+
+def test_the_symmetric_core_is_the_tools_too(meshes, tmp_path):
+    torus = meshes["torus"]
+    status, _, err = run_tool("semireg", torus, "-o", tmp_path / "cli.obj", "--base-size", 16,
+                              "--levels", LEVELS, "--core", "symmetric", "--report",
+                              tmp_path / "cli.json", "-q")
+    assert status == 0, err
+    r = ism.semireg(torus, base_size=16, levels=LEVELS, core="symmetric", quiet=True)
+    V, F = ism.read_mesh(tmp_path / "cli.obj")
+    assert np.array_equal(V, r.vertices.astype(np.float32)) and np.array_equal(F, r.faces)
+    cli = json.loads((tmp_path / "cli.json").read_text())
+    assert cli["map_core"] == "symmetric" and r.report["map"] == cli["map"]
+    assert r.report["map"]["core"] == "symmetric" and r.report["meta_mesh"]["valid"]
+    assert ism.check(r.vertices, r.faces)["genus"] == 1
+    with pytest.raises(ValueError, match="core must be"):
+        ism.semireg(torus, base_size=16, core="spherical", quiet=True)

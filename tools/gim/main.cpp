@@ -4,9 +4,6 @@
 #include "pipeline/gim_remesh.hpp"
 #include "tool/cli.hpp"
 
-#include <map>
-#include <string>
-
 int main(int argc, char** argv) {
   using namespace ism;
   CLI::App app{"gim-remesh: octahedral geometry image of a genus-0 surface (holes are capped)"};
@@ -24,12 +21,7 @@ int main(int argc, char** argv) {
   app.add_option("--features", o.features.path,
                  "6 vertex indices for +x -x +y -y +z -z (default: automatic)");
   tool::add_map_options(app, o.map);
-  app.add_option("--core", o.map.core,
-                 "Map core: surface-map (default: every variant refined, the best kept) or "
-                 "symmetric (the one map both sides refine, paper §5, taking each coarse map "
-                 "over at 1000 surface vertices; closed surfaces)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, tool::MapCore>{
-          {"surface-map", tool::MapCore::surface_map}, {"symmetric", tool::MapCore::symmetric}}));
+  tool::add_core_option(app, o.map);
   app.add_option("--normals", o.normals, "Normal map (.exr) at the same samples");
   app.add_option("--mesh", o.mesh, "Remesh of the image (.obj, .ply, .off, .stl, .drc, .glb)");
   tool::add_mesh_file_options(app, o.mesh_file);

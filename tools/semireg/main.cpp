@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   app.add_option("--write-base", o.write_base, "Write the base used, its vertices on the surface");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   ism::tool::add_map_options(app, o.map);
+  ism::tool::add_core_option(app, o.map);
   ism::tool::add_mesh_file_options(app, o.mesh_file);
   ism::tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
