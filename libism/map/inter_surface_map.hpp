@@ -149,6 +149,10 @@ class InterSurfaceMap {
   /// in a chart); kept only if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
+  /// Whether the last optimize_vertex that ran laid its vertex out in a
+  /// large chart (one whose ring holds much of the other side, as a cone of
+  /// a coarse domain's does: its evaluations cost thousands of pieces each).
+  bool last_chart_large() const { return last_chart_large_; }
 
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
@@ -269,6 +273,7 @@ class InterSurfaceMap {
   mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
+  bool last_chart_large_ = false;
 };
 
 }  // namespace ism

@@ -472,35 +472,66 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     }
   }
 
-  // Chords: the pieces of t's edges inside the ring, between anchors.
-  std::vector<int> edges;
+  // Chords: the pieces of t's edges inside the ring, between anchors. Each
+  // lies between the anchors on its edge, so only the break points of an
+  // edge between its first and last anchor are visited (with one more on
+  // each side): an edge of an abstract domain has thousands.
+  struct Span {
+    int edge;
+    double lo, hi;  // along the edge
+  };
+  std::vector<Span> spans;
   for (const auto& anchor : chart.anchors) {
     const Place& p = anchor.node.place[t];
-    if (p.kind == Place::edge) edges.push_back(p.index);
+    if (p.kind == Place::edge) spans.push_back({p.index, p.t, p.t});
     if (p.kind == Place::vertex)
-      edges.insert(edges.end(), IT.vertex_edges[p.index].begin(), IT.vertex_edges[p.index].end());
+      for (int g : IT.vertex_edges[p.index]) {
+        const double at = T.edges[g][0] == p.index ? 0.0 : 1.0;
+        spans.push_back({g, at, at});
+      }
   }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<char> in_ring(S.faces.size(), 0);
-  for (int f : chart.faces) in_ring[f] = 1;
+  std::sort(spans.begin(), spans.end(),
+            [](const Span& a, const Span& b) { return a.edge < b.edge; });
+  std::vector<Span> edges;
+  for (const Span& x : spans)
+    if (edges.empty() || edges.back().edge != x.edge) {
+      edges.push_back(x);
+    } else {
+      edges.back().lo = std::min(edges.back().lo, x.lo);
+      edges.back().hi = std::max(edges.back().hi, x.hi);
+    }
+  auto in_ring = [&](int f) {
+    return std::find(chart.faces.begin(), chart.faces.end(), f) != chart.faces.end();
+  };
   std::vector<MetaNode> points;
 
-  for (int g : edges) {
+  for (const Span& span : edges) {
+    const int g = span.edge;
     const auto& list = T.crossings[g];
     const int n = int(list.size());
+    auto param = [&](int j) { return j == 0 ? 0.0 : j == n + 1 ? 1.0 : list[j - 1].here; };
+    // Points first..last of 0 (g's first vertex), 1..n (its break points),
+    // n + 1 (its second vertex).
+    const auto by_here = [](const MetaCrossing& c, double h) { return c.here < h; };
+    const int first = std::max(
+        0, int(std::lower_bound(list.begin(), list.end(), span.lo, by_here) - list.begin()));
+    const int last = std::min(
+        n + 1,
+        int(std::lower_bound(list.begin(), list.end(), span.hi, by_here) - list.begin()) + 2);
     points.clear();
-    points.push_back(vertex_node(meta_, t, T.edges[g][0]));
-    for (int i = 0; i < n; ++i) {
-      const auto node = break_node(meta_, t, g, i);
+    for (int j = first; j <= last; ++j) {
+      if (j == 0 || j == n + 1) {
+        points.push_back(vertex_node(meta_, t, T.edges[g][j == 0 ? 0 : 1]));
+        continue;
+      }
+      const auto node = break_node(meta_, t, g, j - 1);
       if (!node) return chart_fail(271);
       points.push_back(*node);
     }
-    points.push_back(vertex_node(meta_, t, T.edges[g][1]));
-    auto param = [&](int j) { return j == 0 ? 0.0 : j == n + 1 ? 1.0 : list[j - 1].here; };
+    auto point = [&](int j) -> const MetaNode& { return points[j - first]; };
     int run = -1;
-    for (int j = 0; j <= n; ++j) {
-      const Place &a = points[j].place[s], &b = points[j + 1].place[s];
+    for (int j = first; j < last; ++j) {
+      const Place &a = point(j).place[s], &b = point(j + 1).place[s];
       bool inside = false;
       if (a.kind == Place::vertex && b.kind == Place::vertex) {
         inside = (a.index == v || b.index == v) && a.index != b.index;  // along a spoke
@@ -510,15 +541,15 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         int common = 0, ring_face = 0;
         for (int f : faces_a)
           if (std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end())
-            ++common, ring_face += in_ring[f];
+            ++common, ring_face += in_ring(f);
         if (common > 1 && ring_face > 0) return chart_fail(288);  // along an edge inside the ring
         inside = common == 1 && ring_face == 1;
       }
       if (inside && run < 0) run = j;
-      if (!inside || j == n) {
+      if (!inside || j == last - 1) {
         if (run >= 0) {
           const int end = inside ? j + 1 : j;
-          const auto ia = anchor_of.find(points[run].key), ib = anchor_of.find(points[end].key);
+          const auto ia = anchor_of.find(point(run).key), ib = anchor_of.find(point(end).key);
           if (ia == anchor_of.end() || ib == anchor_of.end() || ia->second == ib->second)
             return chart_fail(296);
           chart.chords.push_back({ia->second, ib->second, g, param(run), param(end), run, end - 1});
@@ -1532,9 +1563,11 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
 // ---------------------------------------------------------------- operations
 
 double InterSurfaceMap::optimize_vertex(int s, int v) {
+  last_chart_large_ = false;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
   Chart chart;
   if (!build_chart(s, v, chart)) return 0.0;
+  last_chart_large_ = chart.large();
   ++stats_.optimizations;
   ++(chart.kind == Chart::fast        ? stats_.fast_path
      : chart.kind == Chart::developed ? stats_.developed

@@ -117,8 +117,23 @@ std::optional<MetaNode> break_node(const MetaMesh& meta, int side, int e, int i)
           index0 = int(j);
     if (index0 < 0) return std::nullopt;
   }
+  // The crossing's rank among the crossings of e0 with e1, along e0: both
+  // edges' lists record each of them (e1's with the parameter on e0 as
+  // `there`), so it is counted in the shorter list (a domain edge's list
+  // holds thousands where a surface edge's holds a few). Two crossings of
+  // the same edges closer than 1e-12 along e0 do not occur (the
+  // transactions keep crossings clear of each other).
+  const double at0 = side == 0 ? c.here : list0[index0].here;
+  const auto& list1 = meta.side[1].crossings[e1];
   int occurrence = 0;
-  for (int j = 0; j < index0; ++j) occurrence += list0[j].edge == e1;
+  if (list0.size() <= list1.size()) {
+    for (const MetaCrossing& r : list0) {
+      if (!(r.here < at0 - 1e-12)) break;
+      occurrence += r.edge == e1;
+    }
+  } else {
+    for (const MetaCrossing& r : list1) occurrence += r.edge == e0 && r.there < at0 - 1e-12;
+  }
   n.key = {1, e0, e1, occurrence};
   return n;
 }

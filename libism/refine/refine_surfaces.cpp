@@ -1,5 +1,6 @@
 #include "refine/refine_surfaces.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <deque>
@@ -22,21 +23,67 @@ void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, Surf
   if (options.on_step) options.on_step(step);
 }
 
-/// Optimises v; the gain (the step reported when kept).
-double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v) {
+/// The back-off of vertices whose optimisation in a large chart found no
+/// lower energy (SurfaceRefineOptions::large_chart_backoff): after k such
+/// failures in a row, the next 2^k - 1 optimisations of the vertex are
+/// skipped (k at most kMaxFailures).
+class Backoff {
+ public:
+  static constexpr unsigned kMaxFailures = 6;
+  /// Whether this optimisation of v is skipped (and counts it).
+  bool skip(int side, int v) {
+    grow(side, v);
+    if (left_[side][v] == 0) return false;
+    --left_[side][v];
+    ++skipped_;
+    return true;
+  }
+  /// After an optimisation of v that ran: its chart was large, its gain.
+  void record(int side, int v, bool large, double gain) {
+    grow(side, v);
+    if (!large || gain > 0) {
+      failures_[side][v] = 0;
+      return;
+    }
+    failures_[side][v] = std::min(failures_[side][v] + 1, kMaxFailures);
+    left_[side][v] = (1u << failures_[side][v]) - 1;
+  }
+  std::size_t skipped() const { return skipped_; }
+
+ private:
+  void grow(int side, int v) {
+    if (std::size_t(v) >= failures_[side].size()) {
+      failures_[side].resize(std::size_t(v) + 1, 0);
+      left_[side].resize(std::size_t(v) + 1, 0);
+    }
+  }
+  std::array<std::vector<unsigned>, 2> failures_, left_;
+  std::size_t skipped_ = 0;
+};
+
+/// Optimises v (unless the back-off, when given, skips it); the gain (the
+/// step reported when kept).
+double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
+                Backoff* backoff = nullptr) {
+  if (backoff && backoff->skip(side, v)) return 0.0;
   const double g = map.optimize_vertex(side, v);
+  if (backoff) backoff->record(side, v, map.last_chart_large(), g);
   if (g > 0) after(map, options, {SurfaceStep::optimise, side, v, g});
   return g;
+}
+
+double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff) {
+  double gain = 0;
+  for (int side = 0; side < 2; ++side)
+    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
+      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v), backoff);
+  return gain;
 }
 
 }  // namespace
 
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
-  double gain = 0;
-  for (int side = 0; side < 2; ++side)
-    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
-      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v));
-  return gain;
+  return sweep(map, options, nullptr);
 }
 
 namespace {
@@ -47,7 +94,7 @@ namespace {
 /// optimisations.
 LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                 const std::vector<std::pair<int, int>>& seeds,
-                                std::size_t max_moves) {
+                                std::size_t max_moves, Backoff* backoff) {
   LocalRelaxationStats stats;
   std::deque<std::pair<int, int>> queue;
   std::array<std::vector<char>, 2> queued;
@@ -64,7 +111,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
-    const double g = optimise(map, options, side, v);
+    const double g = optimise(map, options, side, v, backoff);
     stats.gain += g;
     if (g > threshold)
       for (int w : map.neighbours(side, v)) enqueue(side, w);
@@ -72,21 +119,29 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   return stats;
 }
 
-}  // namespace
-
-LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
-                                               const SurfaceRefineOptions& options) {
+LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
+                                      Backoff* backoff) {
   if (!(options.local_relaxation_budget > 0)) return {};
   std::vector<std::pair<int, int>> all;
   for (int side = 0; side < 2; ++side)
     for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
       all.push_back({side, int(v)});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
-  return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices));
+  return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
+                    backoff);
+}
+
+}  // namespace
+
+LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
+                                               const SurfaceRefineOptions& options) {
+  return local_relaxation(map, options, nullptr);
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats stats;
+  Backoff backoff_state;
+  Backoff* backoff = options.large_chart_backoff ? &backoff_state : nullptr;
   const std::size_t total_splits = map.splits_total(0) + map.splits_total(1);
   auto fraction = [&](int side) {
     return map.splits_total(side)
@@ -110,29 +165,30 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     todo.push_back(vs);
     std::vector<std::pair<int, int>> region;
     for (int v : todo) {
-      optimise(map, options, side, v);
+      optimise(map, options, side, v, backoff);
       region.push_back({side, v});
     }
     if (options.optimise_other_side)
       for (int x : map.others_in_ring(side, vs))
         if (map.is_active(1 - side, x)) {
-          optimise(map, options, 1 - side, x);
+          optimise(map, options, 1 - side, x, backoff);
           region.push_back({1 - side, x});
         }
     if (map.last_split_growth() > options.hard_split_growth) {
       ++stats.hard_splits;
       if (options.hard_split_relaxation > 0)
         stats.local_moves +=
-            relax_from(map, options, region, options.hard_split_relaxation * region.size()).moves;
+            relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff)
+                .moves;
     }
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (surfaces_sweep(map, options) < 1e-3 * e) break;
+        if (sweep(map, options, backoff) < 1e-3 * e) break;
       }
-      stats.local_moves += surfaces_local_relaxation(map, options).moves;
+      stats.local_moves += local_relaxation(map, options, backoff).moves;
       last_sweep = total;
     }
     if (options.progress && total_splits)
@@ -141,9 +197,10 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;
-    if (surfaces_sweep(map, options) < options.final_relative_gain * e) break;
+    if (sweep(map, options, backoff) < options.final_relative_gain * e) break;
   }
-  stats.local_moves += surfaces_local_relaxation(map, options).moves;
+  stats.local_moves += local_relaxation(map, options, backoff).moves;
+  stats.large_chart_skips = backoff_state.skipped();
   stats.energy = map.energy();
   return stats;
 }

@@ -54,6 +54,17 @@ struct SurfaceRefineOptions {
   /// never).
   double hard_split_growth = 10;
   std::size_t hard_split_relaxation = 50;
+  /// Vertices whose optimisation in a large chart (InterSurfaceMap::
+  /// last_chart_large(): a cone of a coarse domain, whose chart holds much
+  /// of the surface) found no lower energy are retried less and less often:
+  /// after k such failures in a row, the next 2^k - 1 of its optimisations
+  /// are skipped (k at most 6); a kept move resets it. Such a chart costs
+  /// as much as a thousand small ones, and where SurfaceMap has placed the
+  /// cones (a resumed map, as the remeshers' symmetric core is) their
+  /// continuous moves do not get below the map's energy. Off by default:
+  /// from a trivial map the cones do move, and a skipped move changes all
+  /// that follows (fandisk from the trivial map then stops at a split).
+  bool large_chart_backoff = false;
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
@@ -67,6 +78,7 @@ struct SurfaceRefineStats {
   std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
   std::size_t local_moves = 0;  // moves of the local relaxation queues
   std::size_t hard_splits = 0;  // splits above hard_split_growth, relaxed
+  std::size_t large_chart_skips = 0;  // optimisations skipped by large_chart_backoff
   double energy = 0;
 };
 

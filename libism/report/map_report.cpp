@@ -43,6 +43,7 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["sweeps"] = stats.sweeps;
   j["final_sweeps"] = stats.final_sweeps;
   j["hard_splits"] = stats.hard_splits;
+  j["large_chart_skips"] = stats.large_chart_skips;
   return j;
 }
 

@@ -86,6 +86,8 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   SurfaceRefineOptions refine_options;
   refine_options.progress = progress;
   refine_options.max_final_sweeps = settings.final_sweeps;
+  // The cones are placed: their large charts are retried less and less.
+  refine_options.large_chart_backoff = true;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
   } catch (const std::exception& e) {

@@ -137,8 +137,9 @@ struct MapStageResult {
 /// settings.hold_features; the variant's inverse-stretch weight and the curvature weight, as a
 /// forward density; its other energy settings not applied from there on) and refined by
 /// refine_surfaces (at most
-/// settings.final_sweeps final sweeps); it is scored by its domain -> surface efficiency; a
-/// stopped refinement's why is describe_stop's line. The report also gets "map_core".
+/// settings.final_sweeps final sweeps; SurfaceRefineOptions::large_chart_backoff on); it is scored
+/// by its domain -> surface efficiency; a stopped refinement's why is describe_stop's line. The
+/// report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

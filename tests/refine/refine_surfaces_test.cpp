@@ -141,6 +141,57 @@ TEST(RefineSurfaces, ResumesASurfaceMapRefinedPartOfTheWay) {
                std::invalid_argument);
 }
 
+// The back-off of large charts (SurfaceRefineOptions::large_chart_backoff):
+// the cones of a resumed map over the octahedron have charts holding much of
+// the surface; with the back-off fewer of their optimisations run, the map
+// stays valid after every step with exact gains, and it ends as good.
+TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
+  const auto [pm, domain] = blob_over_octahedron(800);
+  SurfaceMap coarse(domain, pm);
+  RefineOptions coarse_options;
+  coarse_options.stop_at_vertices = 150;
+  refine(coarse, coarse_options);
+  const auto meta = meta_mesh(coarse);
+  ASSERT_TRUE(meta);
+  const std::array<std::size_t, 2> applied{0, coarse.splits_applied()};
+  struct Run {
+    SurfaceRefineStats stats;
+    std::size_t optimizations = 0, cone_moves = 0;
+    double efficiency = 0;
+  };
+  auto run = [&](bool backoff) {
+    InterSurfaceMap map(*meta, side_from_domain(domain, pm), side_from_pm(pm), applied);
+    SurfaceRefineOptions options;
+    options.large_chart_backoff = backoff;
+    options.validate_each_step = backoff;
+    double energy = map.energy();
+    Run r;
+    options.on_step = [&](const SurfaceStep& step) {
+      const double after = map.energy();
+      if (step.kind == SurfaceStep::optimise) {
+        EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+        r.cone_moves += step.side == 0;
+      }
+      energy = after;
+    };
+    r.stats = refine_surfaces(map, options);
+    EXPECT_FALSE(map.validate());
+    r.optimizations = map.stats().optimizations;
+    r.efficiency = map.measures().symmetric_efficiency;
+    return r;
+  };
+  const Run with = run(true), without = run(false);
+  std::printf(
+      "back-off: %zu optimisations (%zu skipped, %zu cone moves), efficiency %.4f; "
+      "without: %zu (%zu cone moves), %.4f\n",
+      with.optimizations, with.stats.large_chart_skips, with.cone_moves, with.efficiency,
+      without.optimizations, without.cone_moves, without.efficiency);
+  EXPECT_GT(with.stats.large_chart_skips, 0u);
+  EXPECT_EQ(without.stats.large_chart_skips, 0u);
+  EXPECT_LT(with.optimizations, without.optimizations);
+  EXPECT_GT(with.efficiency, without.efficiency - 1e-3);
+}
+
 // A forward density (the remeshers' curvature weight) weighs the forward
 // term of the energy per face of side 1 and nothing else: with density c
 // everywhere the energy is c times the forward part plus the inverse one,
