@@ -81,6 +81,13 @@ BlobOverOctahedron blob_over_octahedron(std::size_t faces) {
           DomainGeometry(octahedron, octahedron_lengths(octahedron, DomainMetric::equilateral))};
 }
 
+/// `surface_map` refined by SurfaceMap to `vertices` surface vertices.
+void refine_to(SurfaceMap& surface_map, std::size_t vertices) {
+  RefineOptions options;
+  options.stop_at_vertices = vertices;
+  refine(surface_map, options);
+}
+
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
 // gim-remesh's --core symmetric does): the same map at the start (its
 // measures equal SurfaceMap's), then every step valid and each gain the
@@ -89,9 +96,7 @@ BlobOverOctahedron blob_over_octahedron(std::size_t faces) {
 TEST(RefineSurfaces, ResumesASurfaceMapRefinedPartOfTheWay) {
   const auto [pm, domain] = blob_over_octahedron(800);
   SurfaceMap coarse(domain, pm);
-  RefineOptions coarse_options;
-  coarse_options.stop_at_vertices = 150;
-  refine(coarse, coarse_options);
+  refine_to(coarse, 150);
   ASSERT_EQ(coarse.n_vertices(), 150u);
   const auto meta = meta_mesh(coarse);
   ASSERT_TRUE(meta);
@@ -148,9 +153,7 @@ TEST(RefineSurfaces, ResumesASurfaceMapRefinedPartOfTheWay) {
 TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
   const auto [pm, domain] = blob_over_octahedron(800);
   SurfaceMap coarse(domain, pm);
-  RefineOptions coarse_options;
-  coarse_options.stop_at_vertices = 150;
-  refine(coarse, coarse_options);
+  refine_to(coarse, 150);
   const auto meta = meta_mesh(coarse);
   ASSERT_TRUE(meta);
   const std::array<std::size_t, 2> applied{0, coarse.splits_applied()};
