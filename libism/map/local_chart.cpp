@@ -513,8 +513,8 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     // Points first..last of 0 (g's first vertex), 1..n (its break points),
     // n + 1 (its second vertex).
     const auto by_here = [](const MetaCrossing& c, double h) { return c.here < h; };
-    const int first = std::max(
-        0, int(std::lower_bound(list.begin(), list.end(), span.lo, by_here) - list.begin()));
+    const int first =
+        int(std::lower_bound(list.begin(), list.end(), span.lo, by_here) - list.begin());
     const int last = std::min(
         n + 1,
         int(std::lower_bound(list.begin(), list.end(), span.hi, by_here) - list.begin()) + 2);

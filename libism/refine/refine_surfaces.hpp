@@ -76,8 +76,8 @@ struct SurfaceRefineOptions {
 
 struct SurfaceRefineStats {
   std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
-  std::size_t local_moves = 0;  // moves of the local relaxation queues
-  std::size_t hard_splits = 0;  // splits above hard_split_growth, relaxed
+  std::size_t local_moves = 0;        // moves of the local relaxation queues
+  std::size_t hard_splits = 0;        // splits above hard_split_growth, relaxed
   std::size_t large_chart_skips = 0;  // optimisations skipped by large_chart_backoff
   double energy = 0;
 };
