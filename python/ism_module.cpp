@@ -532,15 +532,15 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "torus_remesh",
-      [torus_result](const py::object& surface, const py::object& faces, const py::object& size,
-                     const py::object& features, bool triangulate, bool no_global_reembedding,
-                     bool hold_features, int final_sweeps, std::size_t contenders,
-                     std::optional<double> inverse_weight, std::optional<double> curvature_weight,
-                     std::optional<double> anisotropy_weight,
-                     std::optional<double> anisotropy_threshold, const py::object& output,
-                     const py::object& image, int draco_bits, bool glb_draco,
-                     const py::object& dump_patches, const py::object& meta_mesh,
-                     const py::object& report, bool quiet) {
+      [torus_result](
+          const py::object& surface, const py::object& faces, const py::object& size,
+          const py::object& features, bool triangulate, bool no_global_reembedding,
+          const std::string& core, bool hold_features, int final_sweeps, std::size_t contenders,
+          std::optional<double> inverse_weight, std::optional<double> curvature_weight,
+          std::optional<double> anisotropy_weight, std::optional<double> anisotropy_threshold,
+          const py::object& output, const py::object& image, int draco_bits, bool glb_draco,
+          const py::object& dump_patches, const py::object& meta_mesh, const py::object& report,
+          bool quiet) {
         pipeline::TorusRemeshOptions o;
         o.input = input_mesh(surface, faces, "torus_remesh");
         o.features = feature_source(features, "features");
@@ -561,6 +561,7 @@ PYBIND11_MODULE(ism, m) {
         MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
                      curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
+        o.map.core = map_core(core);
         auto [r, rep] =
             run_pipeline("torus-remesh", &pipeline::torus_remesh, o, common_options(report, quiet));
         return torus_result(
@@ -569,17 +570,20 @@ PYBIND11_MODULE(ism, m) {
             faces_array(r.quads.quads), faces_array(r.triangles.triangles), rep);
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 128, "features"_a = py::none(),
-      "triangulate"_a = false, "no_global_reembedding"_a = false, "hold_features"_a = false,
-      "final_sweeps"_a = 8, "contenders"_a = 0, "inverse_weight"_a = py::none(),
-      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
-      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "image"_a = py::none(),
-      "draco_bits"_a = 14, "glb_draco"_a = false, "dump_patches"_a = py::none(),
-      "meta_mesh"_a = py::none(), "report"_a = py::none(), "quiet"_a = false,
+      "triangulate"_a = false, "no_global_reembedding"_a = false, "core"_a = "surface-map",
+      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
+      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
+      "output"_a = py::none(), "image"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false,
+      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
+      "quiet"_a = false,
       "torus_remesh(path or V, F, *, size=128, ...) -> TorusRemeshResult(grid, vertices, quads, "
       "triangles, report)\n\n"
       "Valence-4 grid remesh of a closed genus-1 surface, as the torus-remesh tool (same\n"
       "options and defaults). size: N, (U, V) or 'UxV'. features: a file path, 9 vertex\n"
-      "indices or 9 points, row-major in the 3x3 grid (default automatic). output (quads as\n"
+      "indices or 9 points, row-major in the 3x3 grid (default automatic). core 'symmetric':\n"
+      "the one map both sides refine (re-embedded on the flat torus before its final\n"
+      "sweeps). output (quads as\n"
       ".obj .ply .off; triangles with triangulate=True or as .stl .drc; .glb triangles), image\n"
       "(.exr), dump_patches, meta_mesh, report are written when given.");
 

@@ -228,6 +228,30 @@ double InterSurfaceMap::energy() const {
   return faces_energy(1, all);
 }
 
+double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
+  for (int s = 0; s < 2; ++s) {
+    const MetaSide &now = meta_.side[s], &next = candidate.side[s];
+    if (next.faces != now.faces || next.lengths != now.lengths || next.edges != now.edges ||
+        next.face_edges != now.face_edges || next.location.size() != now.location.size() ||
+        next.crossings.size() != now.crossings.size() || next.positions != now.positions)
+      return 0;
+    for (std::size_t v = 0; v < now.location.size(); ++v) {
+      const MetaLocation &a = now.location[v], &b = next.location[v];
+      if ((a.face < 0 && a.vertex < 0) != (b.face < 0 && b.vertex < 0)) return 0;
+      if (pinned_[s][v] && (a.vertex != b.vertex || a.face != b.face || a.bary != b.bary)) return 0;
+    }
+  }
+  if (ism::validate(candidate)) return 0;
+  const double before = energy();
+  std::swap(meta_, candidate);
+  index_ = build_index(meta_);
+  const double after = energy();
+  if (after < before) return before - after;
+  std::swap(meta_, candidate);
+  index_ = build_index(meta_);
+  return 0;
+}
+
 std::optional<std::string> InterSurfaceMap::validate() const {
   return ism::validate(meta_);
 }

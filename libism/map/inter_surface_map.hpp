@@ -166,6 +166,12 @@ class InterSurfaceMap {
   double energy() const;
   /// Energy of the pieces of some faces of one side.
   double faces_energy(int side, const std::vector<int>& faces) const;
+  /// Replaces the whole overlay by `candidate`, another map between the two
+  /// sides as they are now (the same faces, metrics and edges on both; e.g.
+  /// a global re-embedding, map/flat_torus_overlay.hpp), if it validates,
+  /// keeps every pinned vertex where it is and has a lower energy. Returns
+  /// the gain (0: the map unchanged).
+  double replace_overlay(MetaMesh candidate);
   /// Checks the whole map from both sides (validate(const MetaMesh&)).
   std::optional<std::string> validate() const;
   MapMeasures measures() const;

@@ -469,13 +469,19 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
 // Kernel of a ring polygon by half-plane clipping, and its centroid: a point
 // where every face (p, ring[i], ring[i+1]) is positive, if any.
 std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
-  Vec2 lo = ring[0], hi = ring[0];
-  for (const Vec2& q : ring) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  std::vector<std::array<Vec2, 2>> edges(ring.size());
+  for (std::size_t i = 0; i < ring.size(); ++i) edges[i] = {ring[i], ring[(i + 1) % ring.size()]};
+  return kernel_centroid(edges);
+}
+
+std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edges) {
+  if (edges.empty()) return std::nullopt;
+  Vec2 lo = edges[0][0], hi = edges[0][0];
+  for (const auto& e : edges)
+    for (const Vec2& q : e) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
   std::vector<Vec2> poly{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
-  const std::size_t m = ring.size();
-  for (std::size_t i = 0; i < m && !poly.empty(); ++i) {
-    const Vec2& a = ring[i];
-    const Vec2& b = ring[(i + 1) % m];
+  for (std::size_t i = 0; i < edges.size() && !poly.empty(); ++i) {
+    const auto& [a, b] = edges[i];
     std::vector<Vec2> out;
     for (std::size_t k = 0; k < poly.size(); ++k) {
       const Vec2& p = poly[k];
@@ -501,8 +507,8 @@ std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
   }
   if (!(area > 0)) return std::nullopt;
   c = origin + c / (3 * area);
-  for (std::size_t i = 0; i < m; ++i)
-    if (!(orient(c, ring[i], ring[(i + 1) % m]) > 0)) return std::nullopt;
+  for (const auto& [a, b] : edges)
+    if (!(orient(c, a, b) > 0)) return std::nullopt;
   return c;
 }
 

@@ -133,6 +133,9 @@ std::optional<std::vector<std::array<Vec2, 3>>> unit_square_layouts(const Domain
 /// The centroid of the kernel of a polygon (the points p for which every
 /// triangle (p, ring[i], ring[i+1]) is counter-clockwise), if it is not empty.
 std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring);
+/// The same for the points strictly left of every directed edge (a, b) of
+/// `edges`, in any order (the box around their ends bounds the kernel).
+std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edges);
 
 /// A disc of M² in one chart (SurfaceMap::disc_layout), its vertices and
 /// faces renumbered locally.

@@ -6,6 +6,7 @@
 #include "metrics/metrics.hpp"
 #include "partition/partition.hpp"
 #include "partition/torus_features.hpp"
+#include "refine/flat_reembedding.hpp"
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
 #include "report/report.hpp"
@@ -131,10 +132,6 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const GridSize size = parse_size(o.size);
   check_formats(o);
   tool::check_settings("torus-remesh", o.map, o.mesh_file);
-  if (o.map.core == tool::MapCore::symmetric)
-    throw tool::Failure(
-        "torus-remesh: the symmetric map core is not available here yet (gim-remesh "
-        "--core symmetric is)");
   tool::check_torus_grid(run, size.columns, size.rows);
   tool::require_extension(run, "--dump-patches", o.dump_patches, {".ply"}, "PLY");
   for (const std::string& out : {o.output, o.image, o.dump_patches})
@@ -161,13 +158,19 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   // squeezed, in the candidates' coarse maps as in the final refinement.
   tool::Progress& progress = run.stage("map");
   // The variant kept folds fewest grid triangles, then has the best one-way stretch.
-  auto sample = [&](const SurfaceMap& map) {
-    const MapSampler sampler(map);
+  auto sample_with = [&](const auto& sampler) {
     return sample_torus_grid(size.columns, size.rows, [&](const TorusPoint& q) {
       const auto s = sampler.surface_point(q.face, q.bary);
       if (!s) throw std::runtime_error("a sample fell outside the map");
       return s->position;
     });
+  };
+  auto sample = [&](const SurfaceMap& map) { return sample_with(MapSampler(map)); };
+  auto sample_symmetric = [&](const MetaMesh& meta) {
+    return sample_with(DomainSurfaceSampler(meta, domain));
+  };
+  auto grid_score = [](const TorusGrid& grid) {
+    return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
   };
   const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
@@ -176,7 +179,17 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
        .global_flat_reembedding = !o.no_global_reembedding,
        .local_disc_every = kLocalDiscEvery,
        .hint = "try --hold-features or other --features",
-       .retry_below = 0.0},
+       .retry_below = 0.0,
+       // After the coarse levels' global re-embeddings (RefineOptions::reembed_max_vertices).
+       .symmetric_from_vertices = RefineOptions{}.reembed_max_vertices,
+       .symmetric_before_final =
+           [&](InterSurfaceMap& map) {
+             if (o.no_global_reembedding) return 0.0;
+             const FlatReembeddingStats s = global_flat_reembedding(map, domain);
+             return s.energy_before - s.energy_after;
+           },
+       .symmetric_score =
+           [&](const InterSurfaceMap& map) { return grid_score(sample_symmetric(map.meta())); }},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
         RefineOptions coarse;
@@ -184,13 +197,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
         coarse.local_disc_every = kLocalDiscEvery;
         return rank_networks(candidates.networks, domain, options, 1000, coarse, count);
       },
-      [&](const SurfaceMap& map) {
-        const TorusGrid grid = sample(map);
-        return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
-      });
+      [&](const SurfaceMap& map) { return grid_score(sample(map)); });
   const auto& chosen = staged.setup;
-  const RefineStats& stats = staged.stats;
-  const SurfaceMap& map = *chosen->map;
   run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
   run.report()["partition"]["candidate_networks"] = n_candidates;
   Json& fj = run.report()["features"];
@@ -206,11 +214,26 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
                                   : "it gives a worse, twisted map (oriented against the domain)"));
   }
 
-  const MetaMesh meta = tool::validate_map(run, map);
-
-  run.stage("sample");
+  // The map from either core: its meta-mesh, measures and report.
+  MetaMesh meta;
+  MapMeasures m;
+  Json map_json;
   TorusRemeshResult result;
-  const TorusGrid& grid = result.grid = sample(map);
+  if (!staged.symmetric) {
+    const SurfaceMap& map = *chosen->map;
+    meta = tool::validate_map(run, map);
+    run.stage("sample");
+    result.grid = sample(map);
+    m = map.measures();
+    map_json = map_report(map, m, staged.stats);
+  } else {
+    meta = tool::validate_map(run, *staged.symmetric);
+    run.stage("sample");
+    result.grid = sample_symmetric(meta);
+    m = staged.symmetric->measures();
+    map_json = map_report(*staged.symmetric, m, staged.symmetric_stats);
+  }
+  const TorusGrid& grid = result.grid;
   const QuadMesh& quads = result.quads = torus_grid_mesh(grid);
   const TriangleMesh& triangles = result.triangles = torus_grid_triangles(grid);
   // glTF has no quads: a .glb grid is written as triangles.
@@ -228,13 +251,12 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
                      [&](const std::filesystem::path& p) { write_torus_image(grid, p); });
 
   run.stage("measure");
-  const MapMeasures m = map.measures();
   const SurfaceDistance distance = surface_distance(surface, triangles);
   const double grid_efficiency = torus_grid_efficiency(grid);
   const std::size_t flipped = torus_grid_flipped_triangles(grid);
   Json& r = run.report();
   r["metric"] = "right-isosceles";
-  r["map"] = map_report(map, m, stats);
+  r["map"] = map_json;
   Json& gj = r["grid"];
   gj["columns"] = size.columns;
   gj["rows"] = size.rows;

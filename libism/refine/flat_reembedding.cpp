@@ -1,5 +1,7 @@
 #include "refine/flat_reembedding.hpp"
 
+#include "map/flat_torus_overlay.hpp"
+
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
@@ -99,8 +101,8 @@ std::optional<FlatTorusLayout> solve_flat_layout(const SurfaceMap& map,
 
 namespace {
 
-std::vector<int> all_faces(const SurfaceMap& map) {
-  std::vector<int> out(map.n_faces());
+std::vector<int> all_faces(std::size_t n) {
+  std::vector<int> out(n);
   for (std::size_t t = 0; t < out.size(); ++t) out[t] = int(t);
   return out;
 }
@@ -108,38 +110,56 @@ std::vector<int> all_faces(const SurfaceMap& map) {
 }  // namespace
 
 FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map)
-    : FlatLayoutEnergy(map, all_faces(map), map.faces()) {}
+    : FlatLayoutEnergy(map, all_faces(map.n_faces()), map.faces()) {}
 
 FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>& map_faces,
                                    std::vector<Triangle> faces)
+    : FlatLayoutEnergy(
+          Setting{map.positions(), map.faces(), map.surface_area(), map.domain().total_area(),
+                  map.options().inverse_stretch_weight, map.options().anisotropy_weight,
+                  anisotropy_onset(map.options()), [&map](int t) { return map.forward_weight(t); }},
+          map_faces, std::move(faces)) {}
+
+FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map)
+    : FlatLayoutEnergy(Setting{map.meta().side[1].positions, map.meta().side[1].faces, map.area(1),
+                               map.area(0), map.options().inverse_weight, 0.0, 0.0,
+                               [&map](int t) {
+                                 const auto& d = map.options().forward_density;
+                                 if (d.empty()) return 1.0;
+                                 const Triangle& f = map.meta().side[1].faces[t];
+                                 return (d[f[0]] + d[f[1]] + d[f[2]]) / 3;
+                               }},
+                       all_faces(map.meta().side[1].faces.size()), map.meta().side[1].faces) {}
+
+FlatLayoutEnergy::FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
+                                   std::vector<Triangle> faces)
     : faces_(std::move(faces)) {
-  const auto& x = map.positions();
+  const auto& x = setting.positions;
   const std::size_t nf = faces_.size();
   gram_.resize(nf);
   std::vector<double> area(nf);
   for (std::size_t t = 0; t < nf; ++t) {
-    const Triangle& f = map.faces()[map_faces[t]];
+    const Triangle& f = setting.surface_faces[map_faces[t]];
     Eigen::Matrix<double, 3, 2> q;
     q << x[f[1]] - x[f[0]], x[f[2]] - x[f[0]];
     gram_[t] = q.transpose() * q;
     area[t] = 0.5 * q.col(0).cross(q.col(1)).norm();
   }
-  const double total_surface = map.surface_area();
-  const double total_domain = map.domain().total_area();
+  const double total_surface = setting.total_surface;
+  const double total_domain = setting.total_domain;
   const double c_forward = total_domain / (total_surface * total_surface);
-  // The map's own energy: its inverse term weighted as MapOptions says.
-  const double c_backward =
-      map.options().inverse_stretch_weight * total_surface / (total_domain * total_domain);
+  // The map's own energy: its inverse term weighted as its options say.
+  const double c_backward = setting.inverse_weight * total_surface / (total_domain * total_domain);
   forward_.resize(nf);
   backward_.resize(nf);
   anisotropy_.resize(nf);
   for (std::size_t t = 0; t < nf; ++t) {
-    forward_[t] = 0.5 * c_forward * map.forward_weight(map_faces[t]) * area[t];
+    forward_[t] = 0.5 * c_forward * setting.forward_weight(map_faces[t]) * area[t];
     backward_[t] = 0.5 * c_backward / (area[t] * area[t]);
-    anisotropy_[t] = map.options().anisotropy_weight * area[t] / total_surface;
+    anisotropy_[t] = setting.anisotropy_weight * area[t] / total_surface;
   }
   surface_area_ = std::move(area);
-  onset_ = anisotropy_onset(map.options());
+  onset_ = setting.onset;
 }
 
 double FlatLayoutEnergy::operator()(const FlatTorusLayout& layout,
@@ -379,6 +399,62 @@ FlatReembeddingStats global_flat_reembedding(SurfaceMap& map,
     stats.applied = true;
     stats.energy_after = map.energy();
   }
+  return stats;
+}
+
+bool untangle_layout(const std::vector<Triangle>& faces, FlatTorusLayout& layout, int passes) {
+  std::vector<std::vector<std::array<int, 2>>> around(layout.position.size());  // face, corner
+  for (std::size_t t = 0; t < faces.size(); ++t)
+    for (int c = 0; c < 3; ++c) around[faces[t][c]].push_back({int(t), c});
+  auto turned = [&] {
+    std::vector<int> out;
+    for (std::size_t t = 0; t < faces.size(); ++t)
+      if (!(orient(layout.corner(faces, int(t), 0), layout.corner(faces, int(t), 1),
+                   layout.corner(faces, int(t), 2)) > 0))
+        out.insert(out.end(), faces[t].begin(), faces[t].end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  };
+  for (int pass = 0; pass < passes; ++pass) {
+    const std::vector<int> vertices = turned();
+    if (vertices.empty()) return true;
+    for (int v : vertices) {
+      // v at the origin: each face around it counter-clockwise where v is
+      // left of its opposite edge.
+      std::vector<std::array<Vec2, 2>> edges;
+      for (const auto& [t, c] : around[v]) {
+        const Vec2 o = layout.corner(faces, t, c);
+        edges.push_back(
+            {layout.corner(faces, t, (c + 1) % 3) - o, layout.corner(faces, t, (c + 2) % 3) - o});
+      }
+      if (const auto k = kernel_centroid(edges)) layout.position[v] += *k;
+    }
+  }
+  return turned().empty();
+}
+
+FlatReembeddingStats global_flat_reembedding(InterSurfaceMap& map, const DomainGeometry& domain,
+                                             const FlatReembeddingOptions& options) {
+  FlatReembeddingStats stats;
+  for (int s = 0; s < 2; ++s)
+    for (std::size_t v = 0; v < map.meta().side[s].n_vertices(); ++v)
+      if (map.is_pinned(s, int(v))) return stats;
+  std::optional<FlatTorusLayout> layout = flat_layout(map, domain);
+  if (!layout || !untangle_layout(map.meta().side[1].faces, *layout)) return stats;
+  stats.energy_before = stats.energy_after = map.energy();
+  const FlatLayoutEnergy energy(map);
+  std::vector<char> active(map.meta().side[1].n_vertices());
+  for (std::size_t v = 0; v < active.size(); ++v) active[v] = map.is_active(1, int(v));
+  stats.iterations = descend_layout(energy, map.meta().side[1].faces, map.meta().side[1].positions,
+                                    active, *layout, options.descent)
+                         .iterations;
+  if (!(energy(*layout) < stats.energy_before * (1 - 1e-9))) return stats;
+  const auto overlay = flat_torus_overlay(map, domain, *layout);
+  if (!overlay) return stats;
+  const double gain = map.replace_overlay(*overlay);
+  stats.applied = gain > 0;
+  stats.energy_after = stats.energy_before - gain;
   return stats;
 }
 

@@ -24,6 +24,7 @@
 // the vertex-optimised map, and descending from the best of them reaches the
 // same energy as descending from the map itself, at twice the cost; so the
 // re-embedding starts from the map.
+#include "map/inter_surface_map.hpp"
 #include "map/surface_map.hpp"
 #include "mesh/mean_value_weights.hpp"
 
@@ -63,6 +64,10 @@ std::optional<FlatTorusLayout> solve_flat_layout(const SurfaceMap& map,
 class FlatLayoutEnergy {
  public:
   explicit FlatLayoutEnergy(const SurfaceMap& map);
+  /// The energy of the symmetric core's map on a flat torus
+  /// (InterSurfaceMap::energy, no anisotropy penalty) as a function of a
+  /// layout of its side 1 (flat_layout(const InterSurfaceMap&, ...)).
+  explicit FlatLayoutEnergy(const InterSurfaceMap& map);
   /// The terms of some faces of the map only (`map_faces`), given with
   /// their corners renumbered (`faces`, indices into a layout's positions).
   FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>& map_faces,
@@ -72,6 +77,18 @@ class FlatLayoutEnergy {
   double operator()(const FlatTorusLayout& layout, std::vector<Vec2>* gradient = nullptr) const;
 
  private:
+  // What the terms depend on: the surface's positions and faces (those
+  // numbered `map_faces`), both totals, the energy settings, and the forward
+  // weight of each face (by its number in `surface_faces`).
+  struct Setting {
+    const std::vector<Vec3>& positions;
+    const std::vector<Triangle>& surface_faces;
+    double total_surface, total_domain, inverse_weight, anisotropy_weight, onset;
+    std::function<double(int)> forward_weight;
+  };
+  FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
+                   std::vector<Triangle> faces);
+
   std::vector<Triangle> faces_;
   std::vector<Eigen::Matrix2d> gram_;       // Q^T Q, Q the surface edges from corner 0
   std::vector<double> forward_, backward_;  // A c_F / 2 and c_B / (2 A²)
@@ -109,6 +126,12 @@ FlatDescentStats descend_layout(const FlatLayoutEnergy& energy, const std::vecto
                                 const std::vector<Vec3>& surface, const std::vector<char>& movable,
                                 FlatTorusLayout& layout, const FlatDescentOptions& options = {});
 
+/// Moves each vertex of a turned-over face (not counter-clockwise) of the
+/// layout to the centroid of its one-ring's kernel (where every face around
+/// it is counter-clockwise), `passes` times at most. True if every face is
+/// then counter-clockwise; the layout's shifts are kept.
+bool untangle_layout(const std::vector<Triangle>& faces, FlatTorusLayout& layout, int passes = 10);
+
 struct FlatReembeddingOptions {
   FlatDescentOptions descent;
 };
@@ -124,6 +147,15 @@ struct FlatReembeddingStats {
 /// symmetric energy. Nothing happens (applied = false) unless the map is a
 /// free flat torus (SurfaceMap::is_free_flat_torus).
 FlatReembeddingStats global_flat_reembedding(SurfaceMap& map,
+                                             const FlatReembeddingOptions& options = {});
+/// The same on the symmetric core, `domain` being side 0 (a flat
+/// unit-square torus): the map read as a layout (flat_layout; faces its
+/// straightening turned over are untangled first), descended,
+/// its overlay rebuilt (flat_torus_overlay) and installed if that validates
+/// with a lower energy (InterSurfaceMap::replace_overlay). Nothing happens
+/// if the domain is not a flat torus, a vertex is pinned, or the layout
+/// cannot be untangled.
+FlatReembeddingStats global_flat_reembedding(InterSurfaceMap& map, const DomainGeometry& domain,
                                              const FlatReembeddingOptions& options = {});
 
 }  // namespace ism

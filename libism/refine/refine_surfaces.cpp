@@ -194,6 +194,15 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     if (options.progress && total_splits)
       options.progress(double(stats.splits) / double(total_splits));
   }
+  if (options.before_final) {
+    ++stats.global_steps;
+    const double gain = options.before_final(map);
+    if (gain > 0) ++stats.global_steps_applied;
+    if (options.validate_each_step)
+      if (const auto problem = map.validate())
+        throw std::runtime_error("map invalid after the global step before the final sweeps: " +
+                                 *problem);
+  }
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;

@@ -65,6 +65,11 @@ struct SurfaceRefineOptions {
   /// from a trivial map the cones do move, and a skipped move changes all
   /// that follows (fandisk from the trivial map then stops at a split).
   bool large_chart_backoff = false;
+  /// A step that moves the whole map at once, run at full resolution before
+  /// the final sweeps (e.g. the flat torus's global re-embedding,
+  /// refine/flat_reembedding.hpp); returns the energy it gained (0: the map
+  /// unchanged). Empty: none.
+  std::function<double(InterSurfaceMap&)> before_final;
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
@@ -79,6 +84,7 @@ struct SurfaceRefineStats {
   std::size_t local_moves = 0;        // moves of the local relaxation queues
   std::size_t hard_splits = 0;        // splits above hard_split_growth, relaxed
   std::size_t large_chart_skips = 0;  // optimisations skipped by large_chart_backoff
+  std::size_t global_steps = 0, global_steps_applied = 0;  // before_final: run, gained
   double energy = 0;
 };
 

@@ -85,13 +85,15 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
 }
 
 /// --core: which map core refines the chosen coarse map (MapSettings::core),
-/// for the front ends that offer the symmetric one (closed surfaces).
-inline void add_core_option(CLI::App& app, MapSettings& settings) {
+/// for the front ends that offer the symmetric one (closed surfaces), which
+/// takes each coarse map over at `from_vertices` (MapStage::symmetric_from_vertices).
+inline void add_core_option(CLI::App& app, MapSettings& settings,
+                            std::size_t from_vertices = kSymmetricFromVertices) {
   app.add_option("--core", settings.core,
                  "Map core: surface-map (default: every variant refined, the best kept) or "
                  "symmetric (the one map both sides refine, paper §5, taking each coarse map "
                  "over at " +
-                     std::to_string(kSymmetricFromVertices) + " surface vertices; closed surfaces)")
+                     std::to_string(from_vertices) + " surface vertices; closed surfaces)")
       ->transform(CLI::CheckedTransformer(std::map<std::string, MapCore>{
           {"surface-map", MapCore::surface_map}, {"symmetric", MapCore::symmetric}}));
 }

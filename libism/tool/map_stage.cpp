@@ -66,12 +66,15 @@ namespace {
 // vertices (as the network choice ranks candidates; there its discrete cone
 // moves place the cones), is resumed as an InterSurfaceMap and refined on.
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
-                      const std::function<void(double)>& progress, const MapSettings& settings) {
+                      const std::function<void(double)>& progress, const MapStage& stage,
+                      const MapSettings& settings) {
   SurfaceMap& coarse = *result.setup->map;
-  if (coarse.n_vertices() < kSymmetricFromVertices) {
+  if (coarse.n_vertices() < stage.symmetric_from_vertices) {
     RefineOptions options;
-    options.stop_at_vertices = kSymmetricFromVertices;
-    refine(coarse, options);
+    options.stop_at_vertices = stage.symmetric_from_vertices;
+    options.global_flat_reembedding = stage.global_flat_reembedding;
+    options.local_disc_every = stage.local_disc_every;
+    result.stats = refine(coarse, options);
   }
   auto meta = meta_mesh(coarse);
   if (!meta) throw std::runtime_error("the coarse map does not validate");
@@ -88,6 +91,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   refine_options.max_final_sweeps = settings.final_sweeps;
   // The cones are placed: their large charts are retried less and less.
   refine_options.large_chart_backoff = true;
+  refine_options.before_final = stage.symmetric_before_final;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
   } catch (const std::exception& e) {
@@ -145,8 +149,10 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               std::function<void(double)> report_progress;
               if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
               if (settings.core == MapCore::symmetric) {
-                refine_symmetric(out.result, all[i], report_progress, settings);
-                out.score = out.result.symmetric->measures().forward_efficiency;
+                refine_symmetric(out.result, all[i], report_progress, stage, settings);
+                const InterSurfaceMap& map = *out.result.symmetric;
+                out.score = stage.symmetric_score ? stage.symmetric_score(map)
+                                                  : map.measures().forward_efficiency;
               } else {
                 RefineOptions options;
                 options.max_final_sweeps = settings.final_sweeps;

@@ -35,9 +35,10 @@ struct MapVariant {
 
 /// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
 /// own) or the symmetric core (InterSurfaceMap: the domain as side 0, cones
-/// released continuously; gim-remesh and semireg, closed surfaces). The symmetric
-/// core takes over the coarse map at kSymmetricFromVertices surface
-/// vertices, where SurfaceMap's discrete cone moves have placed the cones.
+/// released continuously; the remeshers, closed surfaces). The symmetric
+/// core takes over the coarse map at MapStage::symmetric_from_vertices
+/// surface vertices (by default kSymmetricFromVertices, where SurfaceMap's
+/// discrete cone moves have placed the cones).
 enum class MapCore { surface_map, symmetric };
 inline constexpr std::size_t kSymmetricFromVertices = 1000;
 
@@ -90,6 +91,15 @@ struct MapStage {
   std::string hint;  // what to try when the optimisation fails
   /// A variant scoring below this sends MapSettings::fallback_variants in.
   double retry_below = -HUGE_VAL;
+  /// The symmetric core takes over each coarse map at this many surface
+  /// vertices (SurfaceMap refines it that far, with the options above).
+  std::size_t symmetric_from_vertices = kSymmetricFromVertices;
+  /// SurfaceRefineOptions::before_final of the symmetric core's refinement
+  /// (e.g. the flat torus's global re-embedding); empty: none.
+  std::function<double(InterSurfaceMap&)> symmetric_before_final;
+  /// The symmetric core's score of a refined map (the variant with the
+  /// highest is kept); empty: its one-way efficiency domain -> surface.
+  std::function<double(const InterSurfaceMap&)> symmetric_score;
 };
 
 /// Scores a refined map; the variant with the highest score is kept.
@@ -131,15 +141,15 @@ struct MapStageResult {
 /// and candidate, score, efficiencies and whether it was kept). When every variant fails, rethrows
 /// the first variant's Failure, or throws Failure "<tool>: the map optimisation failed on <input>
 /// (<why>); <hint>". On the symmetric core (settings.core) each variant's chosen coarse map is
-/// refined by SurfaceMap to kSymmetricFromVertices surface vertices (the network choice has
-/// usually done so already), resumed as an InterSurfaceMap (side 0 the domain, never refining;
-/// side 1 the surface, refined by the rest of its splits; features released unless
-/// settings.hold_features; the variant's inverse-stretch weight and the curvature weight, as a
-/// forward density; its other energy settings not applied from there on) and refined by
-/// refine_surfaces (at most
-/// settings.final_sweeps final sweeps; SurfaceRefineOptions::large_chart_backoff on); it is scored
-/// by its domain -> surface efficiency; a stopped refinement's why is describe_stop's line. The
-/// report also gets "map_core".
+/// refined by SurfaceMap to stage.symmetric_from_vertices surface vertices (with the stage's
+/// global re-embedding and disc settings; the network choice has usually done so already), resumed
+/// as an InterSurfaceMap (side 0 the domain, never refining; side 1 the surface, refined by the
+/// rest of its splits; features released unless settings.hold_features; the variant's
+/// inverse-stretch weight and the curvature weight, as a forward density; its other energy settings
+/// not applied from there on) and refined by refine_surfaces (at most settings.final_sweeps final
+/// sweeps; SurfaceRefineOptions::large_chart_backoff on); it is scored by stage.symmetric_score, by
+/// default its domain -> surface efficiency; a stopped refinement's why is describe_stop's line.
+/// The report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

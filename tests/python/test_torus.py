@@ -58,3 +58,20 @@ def test_size_forms(meshes):
 def test_every_glb_passes_the_khronos_validator(runs, validate_gltf):
     out, _ = runs
     validate_gltf([out / "py.glb"])
+
+
+def test_the_symmetric_core_is_the_tools_too(meshes, tmp_path):
+    torus = meshes["torus"]
+    status, _, err = run_tool("torus-remesh", torus, "-o", tmp_path / "cli.obj", "--size",
+                              f"{U}x{V}", "--core", "symmetric", "--report",
+                              tmp_path / "cli.json", "-q")
+    assert status == 0, err
+    r = ism.torus_remesh(torus, size=(U, V), core="symmetric", quiet=True)
+    points, _ = ism.read_mesh(tmp_path / "cli.obj")
+    assert np.array_equal(points, r.vertices.astype(np.float32))
+    cli = json.loads((tmp_path / "cli.json").read_text())
+    assert cli["map_core"] == "symmetric" and r.report["map"] == cli["map"]
+    assert r.report["map"]["core"] == "symmetric" and r.report["meta_mesh"]["valid"]
+    assert r.report["map"]["global_steps"] == 1
+    with pytest.raises(ValueError, match="core must be"):
+        ism.torus_remesh(torus, size=(U, V), core="spherical", quiet=True)

@@ -12,6 +12,7 @@
 #include "partition/torus_features.hpp"
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
+#include "refine/refine_surfaces.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
 #include "torus_map_fixture.hpp"
@@ -19,6 +20,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
 namespace ism {
 namespace {
@@ -250,6 +252,139 @@ TEST(FlatReembedding, SqueezedSplitsAreRepairedOnTheMug) {
   EXPECT_LT(s.map.energy(), 10.0);
   std::printf("  mug at %zu vertices: %.3f after %zu repairs\n", s.map.n_vertices(), s.map.energy(),
               stats.split_repairs);
+}
+
+// The symmetric core's map of a TorusMap: its SurfaceMap refined to
+// `vertices` (all of them: 0), resumed as an InterSurfaceMap.
+struct SymmetricTorus {
+  TorusMap s{shapes::torus(1500, 2, 1)};
+  std::unique_ptr<InterSurfaceMap> map;
+  explicit SymmetricTorus(std::size_t vertices, bool distort = false) {
+    RefineOptions options;
+    if (vertices > 0) options.stop_at_vertices = vertices;
+    refine(s.map, options);
+    if (distort) {  // two periodic shears: a bijection far from the optimum
+      FlatTorusLayout layout = *s.map.flat_layout();
+      for (Vec2& p : layout.position) {
+        p.x() += 0.15 * std::sin(2 * M_PI * p.y());
+        p.y() += 0.15 * std::sin(2 * M_PI * p.x());
+      }
+      EXPECT_TRUE(s.map.set_flat_layout(layout));
+    }
+    map = std::make_unique<InterSurfaceMap>(*meta_mesh(s.map), side_from_domain(s.geometry, s.pm),
+                                            side_from_pm(s.pm),
+                                            std::array<std::size_t, 2>{0, s.map.splits_applied()});
+  }
+  InterSurfaceMap with(const MetaMesh& overlay) const {
+    return InterSurfaceMap(overlay, side_from_domain(s.geometry, s.pm), side_from_pm(s.pm),
+                           {0, s.map.splits_applied()});
+  }
+};
+
+// Read as a layout, the symmetric core's map is SurfaceMap's own layout;
+// the overlay rebuilt from a layout is that layout's map: it validates from
+// both sides and its energy over the pieces is the layout's face by face.
+TEST(FlatReembedding, TheSymmetricCoresMapAsALayoutAndBack) {
+  SymmetricTorus t(400);
+  const auto expected = t.s.map.flat_layout();
+  const auto layout = flat_layout(*t.map, t.s.geometry);
+  ASSERT_TRUE(expected);
+  ASSERT_TRUE(layout);
+  const auto& faces = t.map->meta().side[1].faces;
+  ASSERT_EQ(faces, t.s.map.faces());
+  test::expect_layout_tiles_the_torus(faces, *layout);
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      // The same point modulo Z², the same displacements within the face.
+      const Vec2 d = layout->position[faces[f][c]] - expected->position[faces[f][c]];
+      EXPECT_LT((d - d.array().round().matrix()).norm(), 1e-9);
+      const Vec2 step = layout->corner(faces, int(f), c) - layout->corner(faces, int(f), 0);
+      const Vec2 expected_step =
+          expected->corner(faces, int(f), c) - expected->corner(faces, int(f), 0);
+      EXPECT_LT((step - expected_step).norm(), 1e-9) << "face " << f << " corner " << c;
+    }
+  const FlatLayoutEnergy energy(*t.map);
+  const double e = t.map->energy();
+  EXPECT_NEAR(energy(*layout), e, 1e-9 * e);
+
+  // Moved a little (off any vertex of the other side), rebuilt.
+  FlatTorusLayout moved = *layout;
+  for (std::size_t v = 0; v < moved.position.size(); ++v)
+    moved.position[v] += 1e-4 * Vec2(std::sin(0.7 * double(v)), std::cos(1.3 * double(v)));
+  const auto overlay = flat_torus_overlay(*t.map, t.s.geometry, moved);
+  ASSERT_TRUE(overlay);
+  EXPECT_EQ(validate(*overlay), std::nullopt);
+  const MetaMeshSize size = meta_mesh_size(*overlay);
+  EXPECT_EQ(size.kinks, 0u);
+  EXPECT_EQ(size.shared_vertices, 0u);
+  EXPECT_GT(size.crossings, 100u);
+  const double rebuilt = t.with(*overlay).energy();
+  EXPECT_NEAR(rebuilt, energy(moved), 1e-9 * rebuilt);
+  // A layout with a face turned over has no overlay.
+  FlatTorusLayout folded = *layout;
+  const Vec2 c0 = layout->corner(faces, 0, 0), c1 = layout->corner(faces, 0, 1);
+  folded.position[faces[0][0]] = 2 * c1 - c0 - layout->shift[0][0].cast<double>();
+  EXPECT_FALSE(flat_torus_overlay(*t.map, t.s.geometry, folded));
+  // ... until untangled: that vertex moved into its ring's kernel.
+  EXPECT_TRUE(untangle_layout(faces, folded));
+  test::expect_layout_tiles_the_torus(faces, folded);
+  EXPECT_TRUE(flat_torus_overlay(*t.map, t.s.geometry, folded));
+}
+
+// The global re-embedding on the symmetric core: a distorted map is brought
+// back to the optimised map's energy in one step, through replace_overlay,
+// with the exact gain; where it does not apply nothing changes.
+TEST(FlatReembedding, RepairsADistortedMapOnTheSymmetricCore) {
+  TorusMap optimised(shapes::torus(1500, 2, 1));
+  refine(optimised.map);
+  SymmetricTorus t(0, true);
+  const double distorted = t.map->energy();
+  ASSERT_GT(distorted, 1.3 * optimised.map.energy());
+  const FlatReembeddingStats stats = global_flat_reembedding(*t.map, t.s.geometry);
+  EXPECT_TRUE(stats.applied);
+  EXPECT_EQ(t.map->validate(), std::nullopt);
+  EXPECT_EQ(stats.energy_before, distorted);
+  EXPECT_EQ(stats.energy_after, t.map->energy());
+  EXPECT_LT(t.map->energy(), 1.01 * optimised.map.energy());
+  std::printf("  symmetric core: distorted %.4f -> %.4f (vertex-at-a-time optimum %.4f)\n",
+              distorted, t.map->energy(), optimised.map.energy());
+  // A second time: nothing lower to find, the map unchanged.
+  const double once = t.map->energy();
+  global_flat_reembedding(*t.map, t.s.geometry);
+  EXPECT_LE(t.map->energy(), once);
+  EXPECT_EQ(t.map->validate(), std::nullopt);
+  // The octahedron is no flat torus: no layout, no re-embedding.
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry geometry(octahedron,
+                                octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  EXPECT_FALSE(flat_layout(*t.map, geometry));
+}
+
+// refine_surfaces with the re-embedding before the final sweeps: run once
+// at full resolution, the map valid from both sides after it, the gain it
+// reports exactly the energy it took off.
+TEST(FlatReembedding, TheSymmetricCoresRefinementRunsTheGlobalStep) {
+  SymmetricTorus t(300);
+  SurfaceRefineOptions options;
+  std::vector<double> gains;
+  options.before_final = [&](InterSurfaceMap& map) {
+    EXPECT_EQ(map.splits_applied(1), map.splits_total(1));
+    const double before = map.energy();
+    const FlatReembeddingStats s = global_flat_reembedding(map, t.s.geometry);
+    EXPECT_EQ(map.validate(), std::nullopt);
+    EXPECT_EQ(s.energy_before, before);
+    EXPECT_EQ(s.energy_after, map.energy());
+    gains.push_back(s.energy_before - s.energy_after);
+    return gains.back();
+  };
+  const SurfaceRefineStats stats = refine_surfaces(*t.map, options);
+  EXPECT_EQ(stats.global_steps, 1u);
+  ASSERT_EQ(gains.size(), 1u);
+  EXPECT_GT(gains[0], 0);
+  EXPECT_EQ(stats.global_steps_applied, 1u);
+  EXPECT_EQ(t.map->validate(), std::nullopt);
+  std::printf("  global step gained %.4g; symmetric efficiency %.4f\n", gains[0],
+              t.map->measures().symmetric_efficiency);
 }
 
 }  // namespace

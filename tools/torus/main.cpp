@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   app.add_option("--image", o.image, "Periodic geometry image (.exr, V rows x U columns)");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   tool::add_map_options(app, o.map);
+  tool::add_core_option(app, o.map, RefineOptions{}.reembed_max_vertices);
   app.add_flag("--no-global-reembedding", o.no_global_reembedding,
                "Optimise one vertex at a time only (no global flat-torus re-embeddings)");
   tool::add_mesh_file_options(app, o.mesh_file);
