@@ -243,12 +243,13 @@ double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
   }
   if (ism::validate(candidate)) return 0;
   const double before = energy();
+  MetaIndex index = build_index(candidate);
   std::swap(meta_, candidate);
-  index_ = build_index(meta_);
+  std::swap(index_, index);
   const double after = energy();
   if (after < before) return before - after;
-  std::swap(meta_, candidate);
-  index_ = build_index(meta_);
+  std::swap(meta_, candidate);  // rolled back, the old index with it
+  std::swap(index_, index);
   return 0;
 }
 

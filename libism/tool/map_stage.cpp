@@ -74,7 +74,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
     options.stop_at_vertices = stage.symmetric_from_vertices;
     options.global_flat_reembedding = stage.global_flat_reembedding;
     options.local_disc_every = stage.local_disc_every;
-    result.stats = refine(coarse, options);
+    refine(coarse, options);
   }
   auto meta = meta_mesh(coarse);
   if (!meta) throw std::runtime_error("the coarse map does not validate");

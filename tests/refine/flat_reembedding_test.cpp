@@ -135,18 +135,22 @@ TEST(FlatReembedding, SymmetricPositiveWeightsEmbedTheTorus) {
   EXPECT_EQ(s.map.validate(), std::nullopt);
 }
 
+// Two periodic shears of a layout: a bijection of the torus far from the
+// optimum.
+FlatTorusLayout sheared(FlatTorusLayout layout) {
+  for (Vec2& p : layout.position) {
+    p.x() += 0.15 * std::sin(2 * M_PI * p.y());
+    p.y() += 0.15 * std::sin(2 * M_PI * p.x());
+  }
+  return layout;
+}
+
 TEST(FlatReembedding, RepairsADistortedMap) {
   TorusMap s(shapes::torus(1500, 2, 1));
   SurfaceMap& map = s.map;
   refine(map);
   const double optimised = map.energy();
-  // Two periodic shears: a bijection of the torus far from the optimum.
-  FlatTorusLayout layout = *map.flat_layout();
-  for (Vec2& p : layout.position) {
-    p.x() += 0.15 * std::sin(2 * M_PI * p.y());
-    p.y() += 0.15 * std::sin(2 * M_PI * p.x());
-  }
-  ASSERT_TRUE(map.set_flat_layout(layout));
+  ASSERT_TRUE(map.set_flat_layout(sheared(*map.flat_layout())));
   const double distorted = map.energy();
   ASSERT_GT(distorted, 1.3 * optimised);
 
@@ -263,14 +267,7 @@ struct SymmetricTorus {
     RefineOptions options;
     if (vertices > 0) options.stop_at_vertices = vertices;
     refine(s.map, options);
-    if (distort) {  // two periodic shears: a bijection far from the optimum
-      FlatTorusLayout layout = *s.map.flat_layout();
-      for (Vec2& p : layout.position) {
-        p.x() += 0.15 * std::sin(2 * M_PI * p.y());
-        p.y() += 0.15 * std::sin(2 * M_PI * p.x());
-      }
-      EXPECT_TRUE(s.map.set_flat_layout(layout));
-    }
+    if (distort) EXPECT_TRUE(s.map.set_flat_layout(sheared(*s.map.flat_layout())));
     map = std::make_unique<InterSurfaceMap>(*meta_mesh(s.map), side_from_domain(s.geometry, s.pm),
                                             side_from_pm(s.pm),
                                             std::array<std::size_t, 2>{0, s.map.splits_applied()});
