@@ -99,6 +99,8 @@ void InterSurfaceMap::index_and_measure() {
     throw std::invalid_argument("the forward density has " + std::to_string(d.size()) +
                                 " values for " + std::to_string(meta_.side[1].n_vertices()) +
                                 " vertices");
+  if (!(options_.anisotropy_weight >= 0) || !(options_.anisotropy_threshold >= 1))
+    throw std::invalid_argument("the anisotropy penalty needs a weight >= 0 and a threshold >= 1");
   index_ = build_index(meta_);
   for (int s = 0; s < 2; ++s) {
     active_[s] = 0;
@@ -222,6 +224,13 @@ double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const
   return check_faces(s, faces, &energy) ? HUGE_VAL : energy;
 }
 
+EnergyTerms InterSurfaceMap::energy_terms() const {
+  EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
+  terms.anisotropy_weight = options_.anisotropy_weight;
+  terms.anisotropy_onset = options_.anisotropy_threshold + 1 / options_.anisotropy_threshold;
+  return terms;
+}
+
 double InterSurfaceMap::energy() const {
   std::vector<int> all(meta_.side[1].faces.size());
   for (std::size_t f = 0; f < all.size(); ++f) all[f] = int(f);
@@ -273,7 +282,7 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
   // outside, i.e. a bijection onto what the region covered before. So the
   // other side's faces need not be cut again (for a coarse domain each is a
   // whole face of the octahedron with all its content: O(n) per move).
-  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
+  const EnergyTerms terms = energy_terms();
   double sum = 0;
   for (int f : faces) {
     if (energy) {

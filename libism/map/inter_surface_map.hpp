@@ -79,6 +79,12 @@ struct InterSurfaceOptions {
   /// (EnergyTerms::density1; the remeshers' curvature density). The
   /// measures are not weighted. Its size must be side 1's n_vertices.
   std::vector<double> forward_density;
+  /// Weight λ of an anisotropy penalty on every piece (EnergyTerms; 0:
+  /// none), as SurfaceMap's MapOptions::anisotropy_weight; the measures are
+  /// not penalised.
+  double anisotropy_weight = 0.0;
+  /// The ratio of singular values K ≥ 1 past which it bites (r₀ = K + 1/K).
+  double anisotropy_threshold = 10.0;
 };
 
 /// What the local operations did (for reports and tests).
@@ -166,6 +172,8 @@ class InterSurfaceMap {
   double energy() const;
   /// Energy of the pieces of some faces of one side.
   double faces_energy(int side, const std::vector<int>& faces) const;
+  /// What energy() sums (the sides' areas and the options' weights).
+  EnergyTerms energy_terms() const;
   /// Replaces the whole overlay by `candidate`, another map between the two
   /// sides as they are now (the same faces, metrics and edges on both; e.g.
   /// a global re-embedding, map/flat_torus_overlay.hpp), if it validates,
@@ -233,6 +241,9 @@ class InterSurfaceMap {
   /// Each edge of vertex x of a side -> its direction around x, a full turn
   /// scaled to 2π.
   std::map<int, double> vertex_edge_angles(int side, int x) const;
+  /// The chart's one-ring with its centre vertex alone inside, at the
+  /// chart's centre.
+  Layout ring_layout(const Chart& chart) const;
   /// The energy of the ring's faces with the inner vertices placed as in
   /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
@@ -280,6 +291,9 @@ class InterSurfaceMap {
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
   bool last_chart_large_ = false;
+  /// The last kept move's ring energy as the chart evaluated it and as the
+  /// transaction measured it (tests: they agree up to rounding).
+  std::array<double, 2> last_move_energy_{0, 0};
 };
 
 }  // namespace ism

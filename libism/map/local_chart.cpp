@@ -812,6 +812,11 @@ struct EvaluateBuffers {
   std::vector<int> common, faces, node_chord, node_fragment, segment_fragment, split;
   std::vector<StretchMoments> per_tri;
   std::vector<double> part;
+  struct SummedPart {  // a fragment's share of a face of s (the anisotropy penalty's)
+    int tri, fragment;
+    double share;
+  };
+  std::vector<SummedPart> summed_parts;
   MetaPiece piece;
   PlanarCells cells;
 };
@@ -821,7 +826,7 @@ struct EvaluateBuffers {
 double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Proposal* out) const {
   const int s = chart.s, t = chart.t;
   const MetaSide& S = meta_.side[s];
-  const EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
+  const EnergyTerms terms = energy_terms();
   const std::size_t A = chart.anchors.size();
   auto eval_fail = [&](int where) {
     chart_failure_ = 1000 + where;
@@ -1262,6 +1267,10 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       part.assign(tri_chart.size(), 0.0);
       auto& split = buffers.split;
       split.clear();
+      // The anisotropy penalty does not sum: each part's kept apart.
+      const bool penalised = terms.anisotropy_weight > 0;
+      auto& summed_parts = buffers.summed_parts;
+      summed_parts.clear();
       sum = 0;
       for (std::size_t f = 0; f < F && sum < HUGE_VAL; ++f) {
         const auto& fragment = chart.fragments[f];
@@ -1269,6 +1278,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
           const int ti = tri_of(fragment.inside);
           if (ti < 0) return eval_fail(171);
           per_tri[ti].add(fragment.moments, 1, m_weight(fragment));
+          if (penalised) summed_parts.push_back({ti, int(f), 1.0});
         } else if (fragment.summable) {
           double covered = 0;
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
@@ -1279,8 +1289,11 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             continue;
           }
           for (std::size_t i = 0; i < tri_chart.size(); ++i)
-            if (part[i] > 0)
-              per_tri[i].add(fragment.moments, part[i] / fragment.moments.area, m_weight(fragment));
+            if (part[i] > 0) {
+              const double share = part[i] / fragment.moments.area;
+              per_tri[i].add(fragment.moments, share, m_weight(fragment));
+              if (penalised) summed_parts.push_back({int(i), int(f), share});
+            }
         } else if (!cut[f]) {
           sum += cell_energy(fragment.nodes, fragment.inside, fragment.face, &fragment.other);
         } else {
@@ -1296,6 +1309,17 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         sum += s == 0
                    ? stretch_energy(x, y, terms)
                    : stretch_energy(y, x, terms, terms.forward_weight(side1, layout.tris[i].face));
+      }
+      for (const auto& [i, f, share] : summed_parts) {
+        // The part's map s -> t: B A⁻¹ (A: the chart to s, B: to t).
+        const auto& c = chart.fragments[f].chart;
+        const auto& o = chart.fragments[f].other;
+        const Eigen::Matrix2d to_s = affine_linear_part(tri_chart[i], layout.tris[i].shape);
+        const Eigen::Matrix2d to_t = affine_linear_part({c[0], c[1], c[2]}, {o[0], o[1], o[2]});
+        const Eigen::Matrix2d J = to_t * to_s.inverse();
+        const double chart_area = share * chart.fragments[f].moments.area;
+        const double a1 = chart_area * (s == 1 ? to_s : to_t).determinant();
+        sum += terms.anisotropy(J.squaredNorm() / J.determinant(), a1);
       }
       // Each fragment to cut: its sides (split at the new crossings) and the
       // pieces of inner edges in it, cut into cells.
@@ -1562,6 +1586,21 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
 
 // ---------------------------------------------------------------- operations
 
+InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
+  const std::size_t m = chart.faces.size();
+  Layout layout;
+  layout.inner.push_back({chart.v, chart.centre, -1});
+  for (std::size_t i = 0; i < m; ++i) {
+    std::array<int, 3> ref;
+    const int c = chart.corner[i];
+    ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
+    layout.tris.push_back(
+        {chart.faces[i], ref, meta_face_layout(meta_.side[chart.s].lengths[chart.faces[i]])});
+    layout.spokes.push_back({-1, int(i), chart.spoke[i]});
+  }
+  return layout;
+}
+
 double InterSurfaceMap::optimize_vertex(int s, int v) {
   last_chart_large_ = false;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
@@ -1573,16 +1612,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
      : chart.kind == Chart::developed ? stats_.developed
                                       : stats_.general);
   const std::size_t m = chart.faces.size();
-  Layout layout;
-  layout.inner.push_back({v, chart.centre, -1});
-  for (std::size_t i = 0; i < m; ++i) {
-    std::array<int, 3> ref;
-    const int c = chart.corner[i];
-    ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
-    layout.tris.push_back(
-        {chart.faces[i], ref, meta_face_layout(meta_.side[s].lengths[chart.faces[i]])});
-    layout.spokes.push_back({-1, int(i), chart.spoke[i]});
-  }
+  Layout layout = ring_layout(chart);
   const double before = faces_energy(s, chart.faces);
   if (!(before < HUGE_VAL)) return 0.0;
   auto energy = [&](const Vec2& p) {
@@ -1609,6 +1639,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     return 0.0;
   }
   ++stats_.moves;
+  last_move_energy_ = {e, before - *gain};
   return *gain;
 }
 

@@ -865,7 +865,10 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
                        const EnergyTerms& terms, double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);
   if (!(t.forward < HUGE_VAL)) return HUGE_VAL;
-  return stretch_energy(t.forward, t.backward, terms, forward_weight);
+  const double e = stretch_energy(t.forward, t.backward, terms, forward_weight);
+  if (terms.anisotropy_weight == 0) return e;
+  // |J|²_F / det J of the map 0 -> 1: forward = a₁ |J|²_F / 2, det J = a₁ / a₀.
+  return e + terms.anisotropy(2 * t.forward * t.area0 / (t.area1 * t.area1), t.area1);
 }
 
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {

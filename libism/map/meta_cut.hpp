@@ -155,6 +155,17 @@ struct EnergyTerms {
     const Triangle& t = side1.faces[f];
     return (density1[t[0]] + density1[t[1]] + density1[t[2]]) / 3;
   }
+  /// Weight λ of an anisotropy penalty (0: none) and its onset r₀: an
+  /// affine triangle of area a₁ on side 1 whose map has singular values
+  /// Γ ≥ γ adds λ (a₁ / area1) max(0, Γ/γ + γ/Γ − r₀)² (SurfaceMap's
+  /// penalty, MapOptions::anisotropy_weight, per piece).
+  double anisotropy_weight = 0, anisotropy_onset = 0;
+  /// That penalty for Γ/γ + γ/Γ = `ratio` (|J|²_F / det J of the map either
+  /// way) over an area a1 of side 1.
+  double anisotropy(double ratio, double a1) const {
+    const double excess = std::max(0.0, ratio - anisotropy_onset);
+    return anisotropy_weight * (a1 / area1) * excess * excess;
+  }
 };
 
 /// The stretch of one affine triangle, corners p on side 0 and q on side 1
@@ -195,11 +206,14 @@ struct StretchMoments {
 
 /// The energy of stretch terms (of one triangle, or summed over many):
 /// forward_weight·A₀/A₁²·forward + inverse_weight·A₁/A₀²·backward, each
-/// one-way term normalised by both sides' total areas (paper §5.2).
+/// one-way term normalised by both sides' total areas (paper §5.2). No
+/// anisotropy penalty (it does not sum over triangles): triangle_energy and
+/// piece_energy add it.
 double stretch_energy(double forward, double backward, const EnergyTerms& terms,
                       double forward_weight = 1);
 /// Energy of one affine triangle: corners p on side 0, q on side 1 (both
-/// counter-clockwise); HUGE_VAL if either is not positive.
+/// counter-clockwise), its anisotropy penalty included; HUGE_VAL if either
+/// is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).

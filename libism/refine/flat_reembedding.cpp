@@ -122,7 +122,8 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>
 
 FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map)
     : FlatLayoutEnergy(Setting{map.meta().side[1].positions, map.meta().side[1].faces, map.area(1),
-                               map.area(0), map.options().inverse_weight, 0.0, 0.0,
+                               map.area(0), map.options().inverse_weight,
+                               map.options().anisotropy_weight, map.energy_terms().anisotropy_onset,
                                [&map](int t) {
                                  const auto& d = map.options().forward_density;
                                  if (d.empty()) return 1.0;

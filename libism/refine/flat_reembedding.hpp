@@ -65,7 +65,7 @@ class FlatLayoutEnergy {
  public:
   explicit FlatLayoutEnergy(const SurfaceMap& map);
   /// The energy of the symmetric core's map on a flat torus
-  /// (InterSurfaceMap::energy, no anisotropy penalty) as a function of a
+  /// (InterSurfaceMap::energy, its anisotropy penalty included) as a function of a
   /// layout of its side 1 (flat_layout(const InterSurfaceMap&, ...)).
   explicit FlatLayoutEnergy(const InterSurfaceMap& map);
   /// The terms of some faces of the map only (`map_faces`), given with

@@ -82,6 +82,8 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   options.hold_features = settings.hold_features;
   options.inverse_weight = variant.inverse_stretch_weight;
   options.forward_density = coarse.forward_density();  // the same curvature weight
+  options.anisotropy_weight = coarse.options().anisotropy_weight;  // and penalty
+  options.anisotropy_threshold = coarse.options().anisotropy_threshold;
   const ProgressiveMesh& pm = result.setup->pm;
   result.symmetric = std::make_unique<InterSurfaceMap>(
       std::move(*meta), side_from_domain(coarse.domain(), pm), side_from_pm(pm),
