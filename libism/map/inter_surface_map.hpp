@@ -291,9 +291,6 @@ class InterSurfaceMap {
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
   bool last_chart_large_ = false;
-  /// The last kept move's ring energy as the chart evaluated it and as the
-  /// transaction measured it (tests: they agree up to rounding).
-  std::array<double, 2> last_move_energy_{0, 0};
 };
 
 }  // namespace ism

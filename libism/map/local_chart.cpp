@@ -1639,7 +1639,6 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     return 0.0;
   }
   ++stats_.moves;
-  last_move_energy_ = {e, before - *gain};
   return *gain;
 }
 
