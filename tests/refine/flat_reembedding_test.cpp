@@ -303,6 +303,17 @@ TEST(FlatReembedding, TheSymmetricCoresMapAsALayoutAndBack) {
   const FlatLayoutEnergy energy(*t.map);
   const double e = t.map->energy();
   EXPECT_NEAR(energy(*layout), e, 1e-9 * e);
+  // With an anisotropy penalty: per piece on the symmetric core, per face
+  // of the layout, the same sum (the flat torus's map is affine per face).
+  InterSurfaceOptions penalised_options;
+  penalised_options.anisotropy_weight = 1;
+  penalised_options.anisotropy_threshold = 1.2;
+  const InterSurfaceMap penalised(t.map->meta(), side_from_domain(t.s.geometry, t.s.pm),
+                                  side_from_pm(t.s.pm), {0, t.s.map.splits_applied()},
+                                  penalised_options);
+  const double ep = penalised.energy();
+  EXPECT_GT(ep, 1.001 * e);
+  EXPECT_NEAR(FlatLayoutEnergy(penalised)(*layout), ep, 1e-9 * ep);
 
   // Moved a little (off any vertex of the other side), rebuilt.
   FlatTorusLayout moved = *layout;
