@@ -227,7 +227,7 @@ double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const
 EnergyTerms InterSurfaceMap::energy_terms() const {
   EnergyTerms terms{area_[0], area_[1], options_.inverse_weight, options_.forward_density};
   terms.anisotropy_weight = options_.anisotropy_weight;
-  terms.anisotropy_onset = options_.anisotropy_threshold + 1 / options_.anisotropy_threshold;
+  terms.anisotropy_onset = anisotropy_onset(options_.anisotropy_threshold);
   return terms;
 }
 

@@ -817,6 +817,7 @@ struct EvaluateBuffers {
     double share;
   };
   std::vector<SummedPart> summed_parts;
+  std::vector<Eigen::Matrix2d> to_s;
   MetaPiece piece;
   PlanarCells cells;
 };
@@ -1301,10 +1302,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         }
       }
       if (!(sum < HUGE_VAL)) return HUGE_VAL;
+      auto& to_s = buffers.to_s;  // the chart -> s, per face of s
+      to_s.resize(per_tri.size());
       for (std::size_t i = 0; i < per_tri.size(); ++i) {
         if (!(per_tri[i].area > 0)) continue;
-        const auto [x, y] =
-            per_tri[i].evaluate(affine_linear_part(tri_chart[i], layout.tris[i].shape));
+        to_s[i] = affine_linear_part(tri_chart[i], layout.tris[i].shape);
+        const auto [x, y] = per_tri[i].evaluate(to_s[i]);
         if (!(x < HUGE_VAL)) return eval_fail(182);
         sum += s == 0
                    ? stretch_energy(x, y, terms)
@@ -1314,11 +1317,10 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
         // The part's map s -> t: B A⁻¹ (A: the chart to s, B: to t).
         const auto& c = chart.fragments[f].chart;
         const auto& o = chart.fragments[f].other;
-        const Eigen::Matrix2d to_s = affine_linear_part(tri_chart[i], layout.tris[i].shape);
         const Eigen::Matrix2d to_t = affine_linear_part({c[0], c[1], c[2]}, {o[0], o[1], o[2]});
-        const Eigen::Matrix2d J = to_t * to_s.inverse();
+        const Eigen::Matrix2d J = to_t * to_s[i].inverse();
         const double chart_area = share * chart.fragments[f].moments.area;
-        const double a1 = chart_area * (s == 1 ? to_s : to_t).determinant();
+        const double a1 = chart_area * (s == 1 ? to_s[i] : to_t).determinant();
         sum += terms.anisotropy(J.squaredNorm() / J.determinant(), a1);
       }
       // Each fragment to cut: its sides (split at the new crossings) and the

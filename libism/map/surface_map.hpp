@@ -77,9 +77,13 @@ struct MapOptions {
   double anisotropy_threshold = 10.0;
 };
 
-/// The anisotropy penalty's r₀ (MapOptions::anisotropy_threshold K: K + 1/K).
+/// The anisotropy penalty's r₀ for a threshold K on Γ/γ: K + 1/K.
+inline double anisotropy_onset(double threshold) {
+  return threshold + 1.0 / threshold;
+}
+/// The same for MapOptions::anisotropy_threshold.
 inline double anisotropy_onset(const MapOptions& o) {
-  return o.anisotropy_threshold + 1.0 / o.anisotropy_threshold;
+  return anisotropy_onset(o.anisotropy_threshold);
 }
 
 /// Stretch measures of the map (DESIGN.md §2), from its pieces.

@@ -121,16 +121,14 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>
           map_faces, std::move(faces)) {}
 
 FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map)
-    : FlatLayoutEnergy(Setting{map.meta().side[1].positions, map.meta().side[1].faces, map.area(1),
-                               map.area(0), map.options().inverse_weight,
-                               map.options().anisotropy_weight, map.energy_terms().anisotropy_onset,
-                               [&map](int t) {
-                                 const auto& d = map.options().forward_density;
-                                 if (d.empty()) return 1.0;
-                                 const Triangle& f = map.meta().side[1].faces[t];
-                                 return (d[f[0]] + d[f[1]] + d[f[2]]) / 3;
-                               }},
-                       all_faces(map.meta().side[1].faces.size()), map.meta().side[1].faces) {}
+    : FlatLayoutEnergy(map, map.energy_terms()) {}
+
+FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms)
+    : FlatLayoutEnergy(
+          Setting{map.meta().side[1].positions, map.meta().side[1].faces, terms.area1, terms.area0,
+                  terms.inverse_weight, terms.anisotropy_weight, terms.anisotropy_onset,
+                  [&map, terms](int t) { return terms.forward_weight(map.meta().side[1], t); }},
+          all_faces(map.meta().side[1].faces.size()), map.meta().side[1].faces) {}
 
 FlatLayoutEnergy::FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
                                    std::vector<Triangle> faces)

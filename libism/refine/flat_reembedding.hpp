@@ -88,6 +88,7 @@ class FlatLayoutEnergy {
   };
   FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
                    std::vector<Triangle> faces);
+  FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms);
 
   std::vector<Triangle> faces_;
   std::vector<Eigen::Matrix2d> gram_;       // Q^T Q, Q the surface edges from corner 0

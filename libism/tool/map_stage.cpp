@@ -81,8 +81,9 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   InterSurfaceOptions options;
   options.hold_features = settings.hold_features;
   options.inverse_weight = variant.inverse_stretch_weight;
-  options.forward_density = coarse.forward_density();  // the same curvature weight
-  options.anisotropy_weight = coarse.options().anisotropy_weight;  // and penalty
+  // The same curvature weight and anisotropy penalty.
+  options.forward_density = coarse.forward_density();
+  options.anisotropy_weight = coarse.options().anisotropy_weight;
   options.anisotropy_threshold = coarse.options().anisotropy_threshold;
   const ProgressiveMesh& pm = result.setup->pm;
   result.symmetric = std::make_unique<InterSurfaceMap>(
