@@ -96,8 +96,15 @@ struct MapOperationStats {
   std::size_t general = 0;        // charts with the other side's vertices or bends inside
   std::size_t rejected = 0;       // moves refused by the transaction's check
   std::size_t splits = 0;
-  std::size_t splits_in_place = 0;  // splits that needed the in-place fallback
-  std::size_t split_retries = 0;    // splits undone, their neighbourhood moved, tried again
+  std::size_t splits_in_place = 0;   // splits that needed the in-place fallback
+  std::size_t split_retries = 0;     // splits undone, their neighbourhood moved, tried again
+  std::size_t splits_old_moved = 0;  // placed once the old vertex moved (a last attempt)
+  /// Kept moves whose chart energy at the chosen place differs from the
+  /// ring's energy after the move by more than 1 %, and the largest
+  /// relative difference (a general chart's non-affine pieces are fanned
+  /// from their corners, which the move itself changes).
+  std::size_t mispredicted = 0;
+  double worst_prediction = 0;
 };
 
 class InterSurfaceMap {

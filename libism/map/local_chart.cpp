@@ -11,8 +11,10 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -818,6 +820,7 @@ struct EvaluateBuffers {
   };
   std::vector<SummedPart> summed_parts;
   std::vector<Eigen::Matrix2d> to_s;
+  std::vector<std::uint64_t> node_tris;
   MetaPiece piece;
   PlanarCells cells;
 };
@@ -1119,6 +1122,61 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     }
     return best;
   };
+  // The faces of s a point may lie in by the place on s it keeps through
+  // the move: a ring vertex, a break point of a ring edge, a moved vertex,
+  // a new break point of an inner edge: the faces around it (a bit per
+  // triangle of the layout; all where nothing is kept, or past 64 faces).
+  const std::size_t T = tri_chart.size();
+  const std::uint64_t all_tris = T >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << T) - 1;
+  auto& node_tris = buffers.node_tris;
+  node_tris.assign(pos.size(), 0);
+  if (T <= 64) {
+    const std::size_t m = chart.ring.size();
+    auto has_ref = [&](std::size_t ti, int ref) {
+      const auto& r = layout.tris[ti].ref;
+      return r[0] == ref || r[1] == ref || r[2] == ref;
+    };
+    for (std::size_t ti = 0; ti < T; ++ti) {
+      const std::uint64_t bit = std::uint64_t{1} << ti;
+      for (const int ref : layout.tris[ti].ref) {
+        node_tris[node_of(ref)] |= bit;
+        // The break points of the ring edge from this ring position.
+        if (ref < 0 || chart.loop_start.size() != m || !has_ref(ti, int((ref + 1) % m))) continue;
+        const std::size_t end =
+            ref + 1 < int(m) ? chart.loop_start[ref + 1] : chart.boundary_loop.size();
+        for (std::size_t k = chart.loop_start[ref] + 1; k < end; ++k)
+          node_tris[chart.boundary_loop[k]] |= bit;
+      }
+    }
+    for (std::size_t i = 0; i < layout.spokes.size(); ++i) {
+      std::uint64_t around = 0;
+      for (std::size_t ti = 0; ti < T; ++ti)
+        if (has_ref(ti, layout.spokes[i].a) && has_ref(ti, layout.spokes[i].b))
+          around |= std::uint64_t{1} << ti;
+      const auto& chain = spoke_chain[i];
+      for (std::size_t j = 1; j + 1 < chain.size(); ++j) node_tris[chain[j].second] |= around;
+    }
+  }
+  for (auto& bits : node_tris)
+    if (!bits) bits = all_tris;
+  // The face of s a cell lies in: among those its corners' kept places
+  // allow, the one whose chart triangle holds the inside point (or is
+  // nearest to it). (Where the ring's edges bend in the chart, a cell
+  // reaches into a neighbouring face's chart triangle.)
+  auto tri_of_cell = [&](std::span<const int> cell, const Vec2& p) {
+    std::uint64_t allowed = all_tris;
+    for (const int c : cell) allowed &= node_tris[c];
+    if (!allowed) return tri_of(p);
+    if (!(allowed & (allowed - 1))) return std::countr_zero(allowed);
+    int best = -1;
+    double depth = -HUGE_VAL;
+    for (std::size_t i = 0; i < T; ++i) {
+      if (!(allowed >> i & 1)) continue;
+      const double b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]).minCoeff();
+      if (b > depth) depth = b, best = int(i);
+    }
+    return best;
+  };
   // The energy of one cell (its points counter-clockwise, a point inside
   // it, and t's face holding it with its corners there when known);
   // HUGE_VAL if it cannot be placed.
@@ -1128,7 +1186,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   auto cell_energy = [&](std::span<const int> cell, const Vec2& inside, int known_face,
                          const std::vector<Vec2>* known_corners) {
     const std::size_t n = cell.size();
-    const int ti = tri_of(inside);
+    const int ti = tri_of_cell(cell, inside);
     if (ti < 0) return eval_fail(171);
     piece.corner[s].clear();
     const auto& tc = tri_chart[ti];
@@ -1276,7 +1334,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (std::size_t f = 0; f < F && sum < HUGE_VAL; ++f) {
         const auto& fragment = chart.fragments[f];
         if (fragment.summable && !cut[f]) {
-          const int ti = tri_of(fragment.inside);
+          const int ti = tri_of_cell(fragment.nodes, fragment.inside);
           if (ti < 0) return eval_fail(171);
           per_tri[ti].add(fragment.moments, 1, m_weight(fragment));
           if (penalised) summed_parts.push_back({ti, int(f), 1.0});
@@ -1634,13 +1692,17 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
   Proposal proposal;
-  if (!(evaluate(chart, layout, &proposal) < HUGE_VAL)) return 0.0;
+  const double predicted = evaluate(chart, layout, &proposal);
+  if (!(predicted < HUGE_VAL)) return 0.0;
   const auto gain = apply(s, chart.faces, proposal, before, true);
   if (!gain) {
     ++stats_.rejected;
     return 0.0;
   }
   ++stats_.moves;
+  const double after = before - *gain, off = std::abs(predicted - after) / after;
+  stats_.mispredicted += off > 0.01;
+  stats_.worst_prediction = std::max(stats_.worst_prediction, off);
   return *gain;
 }
 
@@ -1765,18 +1827,29 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
 
   // Candidate places for vs: the middle of the kernel of its new ring, and
   // the middles of the triangles (vt, w_j, w_j+1) it takes over, each also
-  // drawn towards vt; the valid one of lowest energy wins.
-  if (charted) {
+  // drawn towards vt; the valid one of lowest energy wins. vt stays; in
+  // the last attempt, when no candidate is valid there (straight edges
+  // from vt's place need not stay inside a ring whose edges bend in the
+  // chart), vt goes to the middle of the kernel of the whole ring and the
+  // candidates are tried again around it, before the split in place.
+  std::vector<Vec2> vt_places{chart.centre};
+  if (charted && !(cap < HUGE_VAL))
+    if (const auto middle = kernel_centroid(boundary_polygon(chart, 0, m)))
+      if (*middle != chart.centre) vt_places.push_back(*middle);
+  for (std::size_t round = 0; charted && round < vt_places.size(); ++round) {
+    const Vec2 centre = vt_places[round];
+    layout.inner[1].pos = centre;
+    layout.inner[1].on_anchor = round == 0 ? chart.centre_anchor : -1;
     std::vector<Vec2> polygon = boundary_polygon(chart, 0, last);
-    polygon.push_back(chart.centre);
+    polygon.push_back(centre);
     std::vector<Vec2> candidates;
     if (const std::optional<Vec2> kernel = kernel_centroid(polygon)) candidates.push_back(*kernel);
     for (std::size_t j = 0; j < last; ++j)
-      candidates.push_back((chart.centre + chart.w[j] + chart.w[j + 1]) / 3);
+      candidates.push_back((centre + chart.w[j] + chart.w[j + 1]) / 3);
     const std::size_t n_base = candidates.size();
     for (int k = 1; k <= 8; ++k)
       for (std::size_t c = 0; c < n_base; ++c)
-        candidates.push_back(chart.centre + std::pow(0.5, k) * (candidates[c] - chart.centre));
+        candidates.push_back(centre + std::pow(0.5, k) * (candidates[c] - centre));
     std::vector<std::pair<double, Vec2>> ranked;  // valid candidates below the limit
     for (const Vec2& c : candidates) {
       if (!inside_polygon(polygon, c)) continue;
@@ -1807,6 +1880,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
       if (evaluate(chart, layout, &proposal) < HUGE_VAL &&
           apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
         last_split_growth_ = faces_energy(s, changed) / before;
+        stats_.splits_old_moved += round > 0;
         return vs;
       }
       chart_failure_ = 5000;

@@ -40,6 +40,9 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["general_fraction"] = double(o.general) / n;
   j["splits_in_place"] = o.splits_in_place;
   j["split_retries"] = o.split_retries;
+  j["splits_old_vertex_moved"] = o.splits_old_moved;
+  j["moves_predicted_off_1pc"] = o.mispredicted;
+  j["worst_prediction"] = o.worst_prediction;
   j["sweeps"] = stats.sweeps;
   j["final_sweeps"] = stats.final_sweeps;
   j["hard_splits"] = stats.hard_splits;

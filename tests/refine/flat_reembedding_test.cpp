@@ -267,7 +267,9 @@ struct SymmetricTorus {
     RefineOptions options;
     if (vertices > 0) options.stop_at_vertices = vertices;
     refine(s.map, options);
-    if (distort) EXPECT_TRUE(s.map.set_flat_layout(sheared(*s.map.flat_layout())));
+    if (distort) {
+      EXPECT_TRUE(s.map.set_flat_layout(sheared(*s.map.flat_layout())));
+    }
     map = std::make_unique<InterSurfaceMap>(*meta_mesh(s.map), side_from_domain(s.geometry, s.pm),
                                             side_from_pm(s.pm),
                                             std::array<std::size_t, 2>{0, s.map.splits_applied()});

@@ -227,7 +227,9 @@ TEST(RefineSurfaces, ForwardDensityWeighsTheForwardTerm) {
   double energy = map.energy();
   refine_options.on_step = [&](const SurfaceStep& step) {
     const double after = map.energy();
-    if (step.kind == SurfaceStep::optimise) EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    if (step.kind == SurfaceStep::optimise) {
+      EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    }
     energy = after;
   };
   refine_surfaces(map, refine_options);
