@@ -1105,33 +1105,42 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     if (!(orient(tri_chart.back()[0], tri_chart.back()[1], tri_chart.back()[2]) > 0))
       return eval_fail(140);
   }
+  // Sets of faces of s: a bit per triangle of the layout (all of them past
+  // 64 faces).
+  const std::size_t T = tri_chart.size();
+  const std::uint64_t all_tris = T >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << T) - 1;
+  // Of the faces `allowed`, the one whose chart triangle is nearest to
+  // holding p (the largest smallest barycentric coordinate).
+  auto deepest = [&](const Vec2& p, std::uint64_t allowed) {
+    int best = -1;
+    double depth = -HUGE_VAL;
+    for (std::size_t i = 0; i < T; ++i) {
+      if (i < 64 && !(allowed >> i & 1)) continue;
+      const double b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]).minCoeff();
+      if (b > depth) depth = b, best = int(i);
+    }
+    return best;
+  };
   // The face whose chart triangle holds p strictly, or is nearest to
   // holding it (a cell on a ring edge that bends outwards pokes out of its
   // triangle).
   auto tri_of = [&](const Vec2& p) {
-    for (std::size_t i = 0; i < tri_chart.size(); ++i) {
+    for (std::size_t i = 0; i < T; ++i) {
       const auto& c = tri_chart[i];
       if (orient(c[0], c[1], p) > 0 && orient(c[1], c[2], p) > 0 && orient(c[2], c[0], p) > 0)
         return int(i);
     }
-    int best = -1;
-    double depth = -HUGE_VAL;
-    for (std::size_t i = 0; i < tri_chart.size(); ++i) {
-      const Eigen::Vector3d b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]);
-      if (b.minCoeff() > depth) depth = b.minCoeff(), best = int(i);
-    }
-    return best;
+    return deepest(p, all_tris);
   };
   // The faces of s a point may lie in by the place on s it keeps through
   // the move: a ring vertex, a break point of a ring edge, a moved vertex,
-  // a new break point of an inner edge: the faces around it (a bit per
-  // triangle of the layout; all where nothing is kept, or past 64 faces).
-  const std::size_t T = tri_chart.size();
-  const std::uint64_t all_tris = T >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << T) - 1;
+  // a new break point of an inner edge: the faces around it (all where
+  // nothing is kept, or past 64 faces).
   auto& node_tris = buffers.node_tris;
   node_tris.assign(pos.size(), 0);
   if (T <= 64) {
     const std::size_t m = chart.ring.size();
+    const bool breaks_known = chart.loop_start.size() == m;
     auto has_ref = [&](std::size_t ti, int ref) {
       const auto& r = layout.tris[ti].ref;
       return r[0] == ref || r[1] == ref || r[2] == ref;
@@ -1141,7 +1150,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (const int ref : layout.tris[ti].ref) {
         node_tris[node_of(ref)] |= bit;
         // The break points of the ring edge from this ring position.
-        if (ref < 0 || chart.loop_start.size() != m || !has_ref(ti, int((ref + 1) % m))) continue;
+        if (ref < 0 || !breaks_known || !has_ref(ti, int((ref + 1) % m))) continue;
         const std::size_t end =
             ref + 1 < int(m) ? chart.loop_start[ref + 1] : chart.boundary_loop.size();
         for (std::size_t k = chart.loop_start[ref] + 1; k < end; ++k)
@@ -1168,14 +1177,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     for (const int c : cell) allowed &= node_tris[c];
     if (!allowed) return tri_of(p);
     if (!(allowed & (allowed - 1))) return std::countr_zero(allowed);
-    int best = -1;
-    double depth = -HUGE_VAL;
-    for (std::size_t i = 0; i < T; ++i) {
-      if (!(allowed >> i & 1)) continue;
-      const double b = barycentric(p, tri_chart[i][0], tri_chart[i][1], tri_chart[i][2]).minCoeff();
-      if (b > depth) depth = b, best = int(i);
-    }
-    return best;
+    return deepest(p, allowed);
   };
   // The energy of one cell (its points counter-clockwise, a point inside
   // it, and t's face holding it with its corners there when known);
@@ -1828,7 +1830,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   // Candidate places for vs: the middle of the kernel of its new ring, and
   // the middles of the triangles (vt, w_j, w_j+1) it takes over, each also
   // drawn towards vt; the valid one of lowest energy wins. vt stays; in
-  // the last attempt, when no candidate is valid there (straight edges
+  // the last attempt, when no candidate there is valid and accepted (straight edges
   // from vt's place need not stay inside a ring whose edges bend in the
   // chart), vt goes to the middle of the kernel of the whole ring and the
   // candidates are tried again around it, before the split in place.
