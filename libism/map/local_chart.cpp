@@ -246,8 +246,14 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     chart.ring.push_back(tri[(c + 1) % 3]);
   }
   for (std::size_t i = 0; i < m; ++i) {
-    chart.spoke.push_back(IS.edge(v, chart.ring[i]));
-    chart.boundary.push_back(IS.edge(chart.ring[i], chart.ring[(i + 1) % m]));
+    // Face i's edges (face_edges[f][k] joins corners k and k + 1) where its
+    // third corner is the next neighbour; the edge map where the fan is open.
+    const Triangle& tri = S.faces[chart.faces[i]];
+    const int c = chart.corner[i], next = chart.ring[(i + 1) % m];
+    chart.spoke.push_back(S.face_edges[chart.faces[i]][c]);
+    chart.boundary.push_back(tri[(c + 2) % 3] == next
+                                 ? S.face_edges[chart.faces[i]][(c + 1) % 3]
+                                 : IS.edge(chart.ring[i], next));
   }
   if (ring_only) return true;
   const MetaLocation& vloc = S.location[v];

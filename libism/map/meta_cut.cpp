@@ -330,7 +330,8 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
   thread_local std::vector<Vec2> position, other;
   thread_local NodeIds local;
   thread_local std::vector<std::array<int, 2>> segments;
-  thread_local std::vector<int> candidates, cell, faces, common;
+  thread_local std::vector<int> candidates, cell, faces, common, starts;
+  thread_local std::vector<std::pair<int, int>> meets;
   thread_local PlanarCells cells;
   nodes.clear(), position.clear(), local.clear(), segments.clear(), candidates.clear();
   std::string error;
@@ -380,25 +381,98 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 
+  // Where the other side's edges meet f's boundary: (edge g, index of the
+  // point in g's chain, -1 when g's list does not hold the record), from
+  // the records of f's edges. Only the segments of g's chain next to these
+  // points, to its end vertices on f and across its kinks inside f can lie
+  // on f: a domain edge's chain holds thousands of points, a surface face
+  // meets a few.
+  meets.clear();
+  for (int k = 0; k < 3; ++k) {
+    const int e = S.face_edges[f][k];
+    for (const MetaCrossing& c : S.crossings[e]) {
+      if (c.is_kink()) continue;
+      const auto& list = T.crossings[c.edge];
+      auto it = std::lower_bound(list.begin(), list.end(), c.there - 1e-12,
+                                 [](const MetaCrossing& a, double h) { return a.here < h; });
+      int j = -1;
+      for (; it != list.end() && it->here <= c.there + 1e-12; ++it)
+        if (it->edge == e && !it->is_kink()) j = int(it - list.begin()) + 1;
+      meets.push_back({c.edge, j});
+    }
+  }
+  std::sort(meets.begin(), meets.end());
+  auto vertex_on_f = [&](int x) {
+    const MetaLocation& l = T.location[x];
+    const Triangle& t = S.faces[f];
+    return l.face == f || (l.vertex >= 0 && (l.vertex == t[0] || l.vertex == t[1] || l.vertex == t[2]));
+  };
+
   for (int g : candidates) {
     const auto& list = T.crossings[g];
-    chain.clear();
-    chain.push_back(vertex_node(meta, 1 - s, T.edges[g][0]));
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::optional<MetaNode> node = break_node(meta, 1 - s, g, int(i));
-      if (!node)
-        return fail("a crossing that " + edge_name(S, s, list[i].edge) + " does not record");
-      chain.push_back(*node);
+    const int n = int(list.size());
+    // Chain point j: 0 is g's first vertex, 1..n its break points, n + 1 its
+    // second vertex. starts: the first points of the segments to look at.
+    auto kink_on_f = [&](int j) {
+      return j >= 1 && j <= n && list[j - 1].is_kink() && list[j - 1].face == f;
+    };
+    starts.clear();
+    auto near = [&](int j) {
+      for (int a = j - 1; a >= 0; --a) {
+        starts.push_back(a);
+        if (!kink_on_f(a)) break;
+      }
+      for (int a = j; a <= n; ++a) {
+        starts.push_back(a);
+        if (!kink_on_f(a + 1)) break;
+      }
+    };
+    bool whole = false;
+    const auto from = std::lower_bound(meets.begin(), meets.end(), std::pair<int, int>{g, -1});
+    for (auto it = from; it != meets.end() && it->first == g; ++it) {
+      if (it->second < 0) whole = true;
+      else near(it->second);
     }
-    chain.push_back(vertex_node(meta, 1 - s, T.edges[g][1]));
-    for (std::size_t j = 0; j + 1 < chain.size(); ++j) {
-      const Place &a = chain[j].place[s], &b = chain[j + 1].place[s];
+    if (whole) {
+      starts.resize(n + 1);
+      for (int j = 0; j <= n; ++j) starts[j] = j;
+    } else {
+      if (vertex_on_f(T.edges[g][0])) near(0);
+      if (vertex_on_f(T.edges[g][1])) near(n + 1);
+      std::sort(starts.begin(), starts.end());
+      starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
+    }
+    // Chain points by index, each built once (consecutive starts share one).
+    chain.resize(2);
+    int held[2] = {-1, -1};
+    auto point = [&](int j, int keep) -> const MetaNode* {
+      for (int h = 0; h < 2; ++h)
+        if (held[h] == j) return &chain[h];
+      const int h = held[0] == keep ? 1 : 0;
+      if (j == 0 || j == n + 1) {
+        chain[h] = vertex_node(meta, 1 - s, T.edges[g][j == 0 ? 0 : 1]);
+      } else {
+        const std::optional<MetaNode> node = break_node(meta, 1 - s, g, j - 1);
+        if (!node) return nullptr;
+        chain[h] = *node;
+      }
+      held[h] = j;
+      return &chain[h];
+    };
+    for (int j : starts) {
+      const MetaNode* pa = point(j, -1);
+      const MetaNode* pb = pa ? point(j + 1, j) : nullptr;
+      if (!pa || !pb) {
+        const int i = pa ? j : j - 1;
+        return fail("a crossing that " + edge_name(S, s, list[i].edge) + " does not record");
+      }
+      const Place &a = pa->place[s], &b = pb->place[s];
       if (!place_on_face(S, f, a) || !place_on_face(S, f, b)) continue;
       if (a.kind == Place::vertex && b.kind == Place::vertex) continue;  // along an edge of f
       if (along_an_edge(S, a, b))
         return fail(edge_name(T, 1 - s, g) + " runs along one of its edges");
-      const int u = add(chain[j], *place_in_layout(S, f, L, a));
-      const int v = add(chain[j + 1], *place_in_layout(S, f, L, b));
+      const int u = add(*pa, *place_in_layout(S, f, L, a));
+      const int v = add(*pb, *place_in_layout(S, f, L, b));
       segments.push_back({u, v});
     }
   }
