@@ -251,9 +251,8 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     const Triangle& tri = S.faces[chart.faces[i]];
     const int c = chart.corner[i], next = chart.ring[(i + 1) % m];
     chart.spoke.push_back(S.face_edges[chart.faces[i]][c]);
-    chart.boundary.push_back(tri[(c + 2) % 3] == next
-                                 ? S.face_edges[chart.faces[i]][(c + 1) % 3]
-                                 : IS.edge(chart.ring[i], next));
+    chart.boundary.push_back(tri[(c + 2) % 3] == next ? S.face_edges[chart.faces[i]][(c + 1) % 3]
+                                                      : IS.edge(chart.ring[i], next));
   }
   if (ring_only) return true;
   const MetaLocation& vloc = S.location[v];

@@ -405,7 +405,8 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
   auto vertex_on_f = [&](int x) {
     const MetaLocation& l = T.location[x];
     const Triangle& t = S.faces[f];
-    return l.face == f || (l.vertex >= 0 && (l.vertex == t[0] || l.vertex == t[1] || l.vertex == t[2]));
+    return l.face == f ||
+           (l.vertex >= 0 && (l.vertex == t[0] || l.vertex == t[1] || l.vertex == t[2]));
   };
 
   for (int g : candidates) {
@@ -430,8 +431,10 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
     bool whole = false;
     const auto from = std::lower_bound(meets.begin(), meets.end(), std::pair<int, int>{g, -1});
     for (auto it = from; it != meets.end() && it->first == g; ++it) {
-      if (it->second < 0) whole = true;
-      else near(it->second);
+      if (it->second < 0)
+        whole = true;
+      else
+        near(it->second);
     }
     if (whole) {
       starts.resize(n + 1);
