@@ -68,7 +68,10 @@ void add_resident(MetaIndex& index, int side, int v, int face) {
 }
 
 void remove_resident(MetaIndex& index, int side, int v, int face) {
-  std::erase(index[1 - side].residents[face], v);
+  // Order kept (charts list a face's residents in it); a face of an
+  // abstract domain holds thousands, so one search and one block move.
+  auto& list = index[1 - side].residents[face];
+  if (auto it = std::find(list.begin(), list.end(), v); it != list.end()) list.erase(it);
 }
 
 // ---------------------------------------------------------------- nodes
