@@ -274,7 +274,7 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
                                                         double* energy) const {
   // Cutting the changed faces of s checks that every record their pieces
   // use is kept by both edges (break_node, for the boundary's edges and for
-  // every edge of the other side entering them, whole), that the pieces tile
+  // the points of the other side's edges on them), that the pieces tile
   // the faces and that each is positive on both sides. The edit leaves the
   // ring's boundary and everything outside it as they were, so the pieces
   // form a continuous, orientation-preserving map of the region onto the

@@ -90,7 +90,10 @@ struct FaceCut {
 /// positive on the other side, pieces that do not tile the face (1e-9
 /// relative), or records that do not fit (an edge of the other side
 /// crossing this face's edges where its own records say otherwise) give an
-/// error naming the face.
+/// error naming the face. Of each edge of the other side entering the face
+/// only the points next to the face are visited (found by the records of
+/// the face's edges): the cost follows the face's content, not the length
+/// of those edges' lists.
 FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int side, int f);
 
 /// Cells of a planar graph in one list: cell i is nodes[start[i]] ..
