@@ -90,6 +90,27 @@ MetaNode vertex_node(const MetaMesh& meta, int side, int v) {
   return n;
 }
 
+namespace {
+
+// The index in `list` (the list of the other edge of crossing c, which lies
+// on edge e) of the same crossing: the record naming e with the parameters
+// exchanged; -1 if there is none.
+int mirror_record(const std::vector<MetaCrossing>& list, int e, const MetaCrossing& c) {
+  int index = -1;
+  auto it = std::lower_bound(list.begin(), list.end(), c.there,
+                             [](const MetaCrossing& a, double h) { return a.here < h; });
+  for (auto j = it; j != list.end() && j->here <= c.there; ++j)
+    if (j->edge == e && j->there == c.here) index = int(j - list.begin());
+  if (index < 0)
+    for (std::size_t j = 0; j < list.size(); ++j)
+      if (list[j].edge == e && std::abs(list[j].here - c.there) <= 1e-12 &&
+          std::abs(list[j].there - c.here) <= 1e-12)
+        index = int(j);
+  return index;
+}
+
+}  // namespace
+
 std::optional<MetaNode> break_node(const MetaMesh& meta, int side, int e, int i) {
   const auto& list = meta.side[side].crossings[e];
   const MetaCrossing& c = list[i];
@@ -107,17 +128,7 @@ std::optional<MetaNode> break_node(const MetaMesh& meta, int side, int e, int i)
   const auto& list0 = meta.side[0].crossings[e0];
   int index0 = side == 0 ? i : -1;
   if (side == 1) {
-    // The same crossing in side 0's list: the record with the parameters
-    // exchanged.
-    auto it = std::lower_bound(list0.begin(), list0.end(), c.there,
-                               [](const MetaCrossing& a, double h) { return a.here < h; });
-    for (auto j = it; j != list0.end() && j->here <= c.there; ++j)
-      if (j->edge == e1 && j->there == c.here) index0 = int(j - list0.begin());
-    if (index0 < 0)
-      for (std::size_t j = 0; j < list0.size(); ++j)
-        if (list0[j].edge == e1 && std::abs(list0[j].here - c.there) <= 1e-12 &&
-            std::abs(list0[j].there - c.here) <= 1e-12)
-          index0 = int(j);
+    index0 = mirror_record(list0, e1, c);
     if (index0 < 0) return std::nullopt;
   }
   // The crossing's rank among the crossings of e0 with e1, along e0: both
@@ -329,7 +340,7 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
   }
 
   // Work arrays kept per thread.
-  thread_local std::vector<MetaNode> nodes, chain;
+  thread_local std::vector<MetaNode> nodes;
   thread_local std::vector<Vec2> position, other;
   thread_local NodeIds local;
   thread_local std::vector<std::array<int, 2>> segments;
@@ -395,21 +406,13 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
     const int e = S.face_edges[f][k];
     for (const MetaCrossing& c : S.crossings[e]) {
       if (c.is_kink()) continue;
-      const auto& list = T.crossings[c.edge];
-      auto it = std::lower_bound(list.begin(), list.end(), c.there - 1e-12,
-                                 [](const MetaCrossing& a, double h) { return a.here < h; });
-      int j = -1;
-      for (; it != list.end() && it->here <= c.there + 1e-12; ++it)
-        if (it->edge == e && !it->is_kink()) j = int(it - list.begin()) + 1;
-      meets.push_back({c.edge, j});
+      const int i = mirror_record(T.crossings[c.edge], e, c);
+      meets.push_back({c.edge, i < 0 ? -1 : i + 1});
     }
   }
   std::sort(meets.begin(), meets.end());
   auto vertex_on_f = [&](int x) {
-    const MetaLocation& l = T.location[x];
-    const Triangle& t = S.faces[f];
-    return l.face == f ||
-           (l.vertex >= 0 && (l.vertex == t[0] || l.vertex == t[1] || l.vertex == t[2]));
+    return place_on_face(S, f, vertex_node(meta, 1 - s, x).place[s]);
   };
 
   for (int g : candidates) {
@@ -448,26 +451,17 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
       std::sort(starts.begin(), starts.end());
       starts.erase(std::unique(starts.begin(), starts.end()), starts.end());
     }
-    // Chain points by index, each built once (consecutive starts share one).
-    chain.resize(2);
-    int held[2] = {-1, -1};
-    auto point = [&](int j, int keep) -> const MetaNode* {
-      for (int h = 0; h < 2; ++h)
-        if (held[h] == j) return &chain[h];
-      const int h = held[0] == keep ? 1 : 0;
-      if (j == 0 || j == n + 1) {
-        chain[h] = vertex_node(meta, 1 - s, T.edges[g][j == 0 ? 0 : 1]);
-      } else {
-        const std::optional<MetaNode> node = break_node(meta, 1 - s, g, j - 1);
-        if (!node) return nullptr;
-        chain[h] = *node;
-      }
-      held[h] = j;
-      return &chain[h];
+    // Chain point j (consecutive starts share one: the last end is kept).
+    auto point = [&](int j) -> std::optional<MetaNode> {
+      if (j == 0 || j == n + 1) return vertex_node(meta, 1 - s, T.edges[g][j == 0 ? 0 : 1]);
+      return break_node(meta, 1 - s, g, j - 1);
     };
+    std::optional<MetaNode> pa, pb;
+    int pb_index = -1;
     for (int j : starts) {
-      const MetaNode* pa = point(j, -1);
-      const MetaNode* pb = pa ? point(j + 1, j) : nullptr;
+      pa = j == pb_index ? pb : point(j);
+      pb = pa ? point(j + 1) : std::nullopt;
+      pb_index = j + 1;
       if (!pa || !pb) {
         const int i = pa ? j : j - 1;
         return fail("a crossing that " + edge_name(S, s, list[i].edge) + " does not record");
