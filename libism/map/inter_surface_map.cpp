@@ -102,6 +102,8 @@ void InterSurfaceMap::index_and_measure() {
   if (!(options_.anisotropy_weight >= 0) || !(options_.anisotropy_threshold >= 1))
     throw std::invalid_argument("the anisotropy penalty needs a weight >= 0 and a threshold >= 1");
   index_ = build_index(meta_);
+  const char* check = std::getenv("ISM_CHECK_ENERGY_CACHE");
+  check_cache_ = check && *check && std::string(check) != "0";
   for (int s = 0; s < 2; ++s) {
     active_[s] = 0;
     for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
@@ -220,8 +222,26 @@ void InterSurfaceMap::rollback(Edit& edit) {
 // ---------------------------------------------------------------- energy and checks
 
 double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const {
+  // The cached sums of a face are those of the map as committed (see the
+  // members' comment); a face without them is cut now and cached.
+  const EnergyTerms terms = energy_terms();
+  auto& cache = sums_cache_[s];
+  if (cache.size() < meta_.side[s].faces.size()) cache.resize(meta_.side[s].faces.size());
   double energy = 0;
-  return check_faces(s, faces, &energy) ? HUGE_VAL : energy;
+  for (int f : faces) {
+    CachedSums& entry = cache[f];
+    if (entry.stamp != sums_stamp_[s] || check_cache_) {
+      StretchSums fresh;
+      const bool cut = !add_face_sums(meta_, index_, s, f, terms, fresh);
+      if (entry.stamp == sums_stamp_[s] && (!cut || !(entry.sums == fresh)))
+        throw std::logic_error("the energy cached for face " + std::to_string(f) + " of side " +
+                               std::to_string(s) + " is stale");
+      if (!cut) return HUGE_VAL;
+      entry = {sums_stamp_[s], fresh};
+    }
+    energy += entry.sums.energy(terms);
+  }
+  return energy;
 }
 
 EnergyTerms InterSurfaceMap::energy_terms() const {
@@ -232,9 +252,19 @@ EnergyTerms InterSurfaceMap::energy_terms() const {
 }
 
 double InterSurfaceMap::energy() const {
+  // Cut afresh (not from the cache): tests compare it with the gains.
   std::vector<int> all(meta_.side[1].faces.size());
   for (std::size_t f = 0; f < all.size(); ++f) all[f] = int(f);
-  return faces_energy(1, all);
+  std::vector<StretchSums> sums;
+  if (check_faces(1, all, &sums)) return HUGE_VAL;
+  return sums_energy(sums);
+}
+
+double InterSurfaceMap::sums_energy(const std::vector<StretchSums>& sums) const {
+  const EnergyTerms terms = energy_terms();
+  double energy = 0;
+  for (const StretchSums& face : sums) energy += face.energy(terms);
+  return energy;
 }
 
 double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
@@ -256,7 +286,10 @@ double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
   std::swap(meta_, candidate);
   std::swap(index_, index);
   const double after = energy();
-  if (after < before) return before - after;
+  if (after < before) {
+    ++sums_stamp_[0], ++sums_stamp_[1];  // every face may have changed
+    return before - after;
+  }
   std::swap(meta_, candidate);  // rolled back, the old index with it
   std::swap(index_, index);
   return 0;
@@ -271,7 +304,7 @@ MapMeasures InterSurfaceMap::measures() const {
 }
 
 std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector<int>& faces,
-                                                        double* energy) const {
+                                                        std::vector<StretchSums>* sums) const {
   // Cutting the changed faces of s checks that every record their pieces
   // use is kept by both edges (break_node, for the boundary's edges and for
   // the points of the other side's edges on them), that the pieces tile
@@ -283,15 +316,15 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
   // other side's faces need not be cut again (for a coarse domain each is a
   // whole face of the octahedron with all its content: O(n) per move).
   const EnergyTerms terms = energy_terms();
-  double sum = 0;
-  for (int f : faces) {
-    if (energy) {
-      if (auto problem = add_face_energy(meta_, index_, s, f, terms, sum)) return problem;
-    } else if (FaceCut cut = cut_face(meta_, index_, s, f); cut.error) {
+  if (sums) sums->assign(faces.size(), {});
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    if (sums) {
+      if (auto problem = add_face_sums(meta_, index_, s, faces[i], terms, (*sums)[i]))
+        return problem;
+    } else if (FaceCut cut = cut_face(meta_, index_, s, faces[i]); cut.error) {
       return cut.error;
     }
   }
-  if (energy) *energy = sum;
   return std::nullopt;
 }
 
@@ -303,13 +336,21 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   for (const auto& [x, loc] : proposal.locations[1]) set_location(1 - s, x, loc, &edit);
   for (const auto& [e, list] : proposal.lists) set_breaks(s, e, list, &edit);
   for (const auto& [g, list] : proposal.other_lists) set_breaks(1 - s, g, list, &edit);
-  double after = 0;
-  const auto problem = check_faces(s, faces, &after);
+  std::vector<StretchSums> sums;
+  const auto problem = check_faces(s, faces, &sums);
+  const double after = problem ? HUGE_VAL : sums_energy(sums);
   if (problem || !(after < HUGE_VAL) || (need_gain && !(after < energy_before * (1 - 1e-12)))) {
     last_refusal_ = problem ? *problem : !(after < HUGE_VAL) ? "infinite energy" : "no gain";
     rollback(edit);
     return std::nullopt;
   }
+  // Committed: the faces of s it changed are exactly `faces`; the other
+  // side's faces under the ring changed too, and which they are is not
+  // tracked, so all of that side's cached sums go.
+  auto& cache = sums_cache_[s];
+  if (cache.size() < meta_.side[s].faces.size()) cache.resize(meta_.side[s].faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i) cache[faces[i]] = {sums_stamp_[s], sums[i]};
+  ++sums_stamp_[1 - s];
   return energy_before - after;
 }
 

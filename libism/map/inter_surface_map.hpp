@@ -177,7 +177,8 @@ class InterSurfaceMap {
   /// inverse term weighted by options().inverse_weight); efficiency 2 /
   /// energy when that weight is 1.
   double energy() const;
-  /// Energy of the pieces of some faces of one side.
+  /// Energy of the pieces of some faces of one side (each face's stretch
+  /// sums cached until an edit may change them).
   double faces_energy(int side, const std::vector<int>& faces) const;
   /// What energy() sums (the sides' areas and the options' weights).
   EnergyTerms energy_terms() const;
@@ -257,7 +258,9 @@ class InterSurfaceMap {
   /// Checks the changed faces of side s after an edit (see the file
   /// comment); their energy when asked.
   std::optional<std::string> check_faces(int s, const std::vector<int>& faces,
-                                         double* energy) const;
+                                         std::vector<StretchSums>* sums) const;
+  /// The energy of stretch sums (one per face), summed in order.
+  double sums_energy(const std::vector<StretchSums>& sums) const;
   /// Stages a proposal on faces of side s, checks them (check_faces) and keeps it if
   /// valid and, when `need_gain`, lower than `energy_before`; the gain, or
   /// nothing (and the map unchanged).
@@ -294,6 +297,21 @@ class InterSurfaceMap {
   std::array<std::size_t, 2> next_split_{0, 0}, active_{0, 0};
   std::array<double, 2> area_{0, 0};
   mutable MapOperationStats stats_;
+  /// The stretch sums of faces as the map was last committed, a face's
+  /// valid while its stamp is its side's: apply() stores the faces it
+  /// changed and invalidates the other side (whose changed faces it does
+  /// not know); replace_overlay invalidates both; a split's connectivity
+  /// change reaches only the faces its apply() stores, or is undone. With
+  /// the environment variable ISM_CHECK_ENERGY_CACHE=1 at construction,
+  /// every cached face is cut again when used and std::logic_error thrown
+  /// if it differs (tests/map set it).
+  struct CachedSums {
+    std::uint64_t stamp = 0;
+    StretchSums sums;
+  };
+  mutable std::array<std::vector<CachedSums>, 2> sums_cache_;
+  std::array<std::uint64_t, 2> sums_stamp_{1, 1};
+  bool check_cache_ = false;
   mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;

@@ -1973,6 +1973,7 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
     IS.vertex_faces[r.vertex] = r.faces;
   }
   area_[s] = u.area;
+  if (sums_cache_[s].size() > u.n_faces) sums_cache_[s].resize(u.n_faces);
   --active_[s];
   --next_split_[s];
   --stats_.splits;

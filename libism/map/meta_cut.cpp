@@ -545,26 +545,25 @@ FaceCut cut_face(const MetaMesh& meta, const MetaIndex& index, int s, int f) {
   return out;
 }
 
-std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex& index, int s,
-                                           int f, const EnergyTerms& terms, double& sum) {
+std::optional<std::string> add_face_sums(const MetaMesh& meta, const MetaIndex& index, int s, int f,
+                                         const EnergyTerms& terms, StretchSums& sums) {
   {
     WholeFace whole;
     if (whole_face(meta, index, s, f, meta_face_layout(meta.side[s].lengths[f]), whole)) {
       const auto &P = whole.corner[0], &Q = whole.corner[1];
       if (polygon_area(P) > 0 && polygon_area(Q) > 0) {
-        // piece_energy of a triangle: its own fan when positive on both
-        // sides, summed from 0 as piece_energy does (so -0 becomes +0).
-        sum += best_fan(P, Q) < 0
-                   ? HUGE_VAL
-                   : 0.0 + triangle_energy(
-                               P, Q, terms,
-                               terms.forward_weight(meta.side[1], s == 1 ? f : whole.face));
+        // A triangle whose fan is valid is its own (add_piece's) triangulation.
+        if (best_fan(P, Q) < 0)
+          sums.forward = sums.backward = HUGE_VAL;
+        else
+          sums.add_triangle(P, Q, terms,
+                            terms.forward_weight(meta.side[1], s == 1 ? f : whole.face));
         return std::nullopt;
       }
     }
   }
   return visit_pieces(meta, index, s, f, [&](const MetaPiece& p) {
-    sum += piece_energy(p, terms, terms.forward_weight(meta.side[1], p.face[1]));
+    sums.add_piece(p, terms, terms.forward_weight(meta.side[1], p.face[1]));
   });
 }
 
@@ -945,31 +944,72 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
   return e + terms.anisotropy(2 * t.forward * t.area0 / (t.area1 * t.area1), t.area1);
 }
 
-double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {
-  // The fan straight from the corners (no copy): what triangulate_piece
-  // gives whenever a fan is valid.
+namespace {
+
+/// Calls fn(p, q) for each triangle of triangulate_piece(piece), the fan
+/// straight from the corners (no copy) whenever one is valid; false if the
+/// piece has no triangulation.
+template <class Fn>
+bool for_each_piece_triangle(const MetaPiece& piece, Fn&& fn) {
   const auto& P = piece.corner[0];
   const auto& Q = piece.corner[1];
   const int n = int(P.size());
   if (n >= 3) {
     const int a = best_fan(P, Q);
     if (a >= 0) {
-      double sum = 0;
       for (int j = 1; j + 1 < n; ++j) {
         const int b = (a + j) % n, c = (a + j + 1) % n;
-        sum += triangle_energy({P[a], P[b], P[c]}, {Q[a], Q[b], Q[c]}, terms, forward_weight);
+        fn(std::array<Vec2, 3>{P[a], P[b], P[c]}, std::array<Vec2, 3>{Q[a], Q[b], Q[c]});
       }
-      return sum;
+      return true;
     }
   }
   const PieceTriangulation tri = triangulate_piece(piece);
-  if (tri.triangles.empty()) return HUGE_VAL;
-  double sum = 0;
+  if (tri.triangles.empty()) return false;
   const auto& [p, q] = tri.points;
   for (const auto& t : tri.triangles)
-    sum += triangle_energy({p[t[0]], p[t[1]], p[t[2]]}, {q[t[0]], q[t[1]], q[t[2]]}, terms,
-                           forward_weight);
-  return sum;
+    fn(std::array<Vec2, 3>{p[t[0]], p[t[1]], p[t[2]]},
+       std::array<Vec2, 3>{q[t[0]], q[t[1]], q[t[2]]});
+  return true;
+}
+
+}  // namespace
+
+double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight) {
+  double sum = 0;
+  const bool triangulated = for_each_piece_triangle(piece, [&](const auto& p, const auto& q) {
+    sum += triangle_energy(p, q, terms, forward_weight);
+  });
+  return triangulated ? sum : HUGE_VAL;
+}
+
+void StretchSums::add_triangle(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
+                               const EnergyTerms& terms, double forward_weight) {
+  const StretchTerms t = triangle_stretch_terms(p, q);
+  if (!(t.forward < HUGE_VAL)) {
+    forward = backward = HUGE_VAL;
+    return;
+  }
+  forward += forward_weight * t.forward;
+  backward += t.backward;
+  if (terms.anisotropy_weight == 0) return;
+  // As triangle_energy: |J|²_F / det J of the map 0 -> 1.
+  const double ratio = 2 * t.forward * t.area0 / (t.area1 * t.area1);
+  const double excess = std::max(0.0, ratio - terms.anisotropy_onset);
+  anisotropy += t.area1 * excess * excess;
+}
+
+void StretchSums::add_piece(const MetaPiece& piece, const EnergyTerms& terms,
+                            double forward_weight) {
+  if (!for_each_piece_triangle(
+          piece, [&](const auto& p, const auto& q) { add_triangle(p, q, terms, forward_weight); }))
+    forward = backward = HUGE_VAL;
+}
+
+double StretchSums::energy(const EnergyTerms& terms) const {
+  if (!(forward < HUGE_VAL) || !(backward < HUGE_VAL)) return HUGE_VAL;
+  const double e = stretch_energy(forward, backward, terms);
+  return terms.anisotropy_weight == 0 ? e : e + terms.anisotropy_weight * anisotropy / terms.area1;
 }
 
 }  // namespace ism

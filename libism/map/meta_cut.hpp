@@ -221,11 +221,30 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
                        const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
-/// Adds the energy of each piece of face f of `side` to `sum`, in
-/// cut_face's order (bit for bit the sum of piece_energy over its pieces),
-/// without keeping them; cut_face's error if it has one (`sum` is then
-/// void).
-std::optional<std::string> add_face_energy(const MetaMesh& meta, const MetaIndex& index, int side,
-                                           int f, const EnergyTerms& terms, double& sum);
+/// What the energy of many triangles sums apart from the sides' total
+/// areas (which change with every split), so that a sum kept for a face
+/// stays valid while other faces change: the map core caches one per face.
+struct StretchSums {
+  double forward = 0;   // Σ forward_weight·forward (triangle_stretch_terms)
+  double backward = 0;  // Σ backward
+  double anisotropy = 0;  // Σ a₁·max(0, ratio − r₀)² (EnergyTerms::anisotropy without λ / A₁)
+  /// Adds triangle (p on side 0, q on side 1); if either is not positive
+  /// the sums become HUGE_VAL (and stay so).
+  void add_triangle(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
+                    const EnergyTerms& terms, double forward_weight = 1);
+  /// Adds a piece's triangles (triangulate_piece's); HUGE_VAL if it has none.
+  void add_piece(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
+  /// The energy of the summed triangles: stretch_energy of the one-way sums
+  /// plus λ / A₁ times the anisotropy sum (equal to the sum of their
+  /// triangle_energy up to rounding).
+  double energy(const EnergyTerms& terms) const;
+  bool operator==(const StretchSums&) const = default;
+};
+
+/// Adds the stretch sums of every piece of face f of `side` (cut_face's
+/// pieces, without keeping them); cut_face's error if it has one (`sums`
+/// are then void).
+std::optional<std::string> add_face_sums(const MetaMesh& meta, const MetaIndex& index, int side,
+                                         int f, const EnergyTerms& terms, StretchSums& sums);
 
 }  // namespace ism

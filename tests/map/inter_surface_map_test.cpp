@@ -87,6 +87,10 @@ std::array<ProgressiveMesh, 2> common_base_pms(const TriangleMesh& a, const Tria
           simplify_constrained(trace_path_network(b, domain, fb), domain)};
 }
 
+/// Every InterSurfaceMap of this test binary cuts each face it takes from
+/// its energy cache again and throws if the two differ.
+const bool kCheckEnergyCache = [] { return setenv("ISM_CHECK_ENERGY_CACHE", "1", 1) == 0; }();
+
 /// Refines both sides in turn (the side less refined first), optimising
 /// every new vertex, its neighbours and the other side's vertices in its
 /// ring; validates after every operation and
