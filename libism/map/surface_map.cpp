@@ -337,31 +337,43 @@ bool SurfaceMap::face_chart(int t, FaceChart& chart) const {
   return true;
 }
 
-double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const {
-  const double twice_domain = orient(a, b, c);
-  if (!(twice_domain > 0)) return HUGE_VAL;
+SurfaceMap::FaceTerms SurfaceMap::face_terms(int t) const {
   const Triangle& tri = faces_[t];
   const Vec3 &q0 = positions_[tri[0]], &q1 = positions_[tri[1]], &q2 = positions_[tri[2]];
+  const double total_d = domain_.total_area(), total_m = surface_area_;
+  FaceTerms k;
+  k.area_m = 0.5 * (q1 - q0).cross(q2 - q0).norm();
+  k.squared = {(q2 - q1).squaredNorm(), (q0 - q2).squaredNorm(), (q1 - q0).squaredNorm()};
+  // Forward stretch weighted by range area, backward by domain area, each
+  // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
+  k.forward = forward_weight(t) * k.area_m * (total_d / (total_m * total_m)) * 0.5;
+  k.anisotropy = options_.anisotropy_weight * (k.area_m / total_m);
+  return k;
+}
+
+double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const {
+  return face_energy(face_terms(t), a, b, c);
+}
+
+double SurfaceMap::face_energy(const FaceTerms& k, const Vec2& a, const Vec2& b,
+                               const Vec2& c) const {
+  const double twice_domain = orient(a, b, c);
+  if (!(twice_domain > 0)) return HUGE_VAL;
   const double area_d = 0.5 * twice_domain;
-  const double area_m = 0.5 * (q1 - q0).cross(q2 - q0).norm();
   // |J|²_F by the cotangent formula: -(1/4A²) Σ_k (d_{k+1}·d_{k+2}) |e_k|²,
   // d_k the domain edge opposite corner k, e_k the surface one.
   const Vec2 d0 = c - b, d1 = a - c, d2 = b - a;
-  const double s0 = (q2 - q1).squaredNorm(), s1 = (q0 - q2).squaredNorm(),
-               s2 = (q1 - q0).squaredNorm();
   const double frob =
-      -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) / (4 * area_d * area_d);
-  const double det = area_m / area_d;  // Γγ
+      -(d1.dot(d2) * k.squared[0] + d2.dot(d0) * k.squared[1] + d0.dot(d1) * k.squared[2]) /
+      (4 * area_d * area_d);
+  const double det = k.area_m / area_d;  // Γγ
   const double total_d = domain_.total_area(), total_m = surface_area_;
-  // Forward stretch weighted by range area, backward by domain area, each
-  // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
-  double e = forward_weight(t) * area_m * (total_d / (total_m * total_m)) * 0.5 * frob +
-             options_.inverse_stretch_weight * area_d * (total_m / (total_d * total_d)) * 0.5 *
-                 frob / (det * det);
+  double e = k.forward * frob + options_.inverse_stretch_weight * area_d *
+                                    (total_m / (total_d * total_d)) * 0.5 * frob / (det * det);
   if (options_.anisotropy_weight > 0) {
     // Γ/γ + γ/Γ = (Γ² + γ²) / Γγ, past its onset.
     const double excess = std::max(0.0, frob / det - anisotropy_onset(options_));
-    e += options_.anisotropy_weight * (area_m / total_m) * excess * excess;
+    e += k.anisotropy * excess * excess;
   }
   return e;
 }
@@ -447,6 +459,7 @@ bool SurfaceMap::build_ring(int v, Ring& ring, int start_vertex) const {
     if (w.count > 0 || x >= 0) ring.single_face = false;
   }
   ring.centre = x < 0 ? position_in(v, ring.centre_face, ring.centre_layout) : Vec2::Zero();
+  for (int f : ring.faces) ring.terms.push_back(face_terms(f));
   return true;
 }
 
@@ -460,7 +473,7 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
     corner[c] = p;
     corner[(c + 1) % 3] = ring.positions[i];
     corner[(c + 2) % 3] = ring.positions[(i + 1) % m];
-    sum += face_energy(ring.faces[i], corner[0], corner[1], corner[2]);
+    sum += face_energy(ring.terms[i], corner[0], corner[1], corner[2]);
     if (sum == HUGE_VAL) return sum;
   }
   return sum;

@@ -269,6 +269,18 @@ class SurfaceMap {
   const EdgeWalk& walk(int t, int k) const { return walks_[t][k]; }
   /// Symmetric energy of one face given its domain triangle in a chart.
   double face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const;
+  /// What face_energy needs of the surface side of face t (constant while
+  /// the face, the surface's area and the options are): its area, squared
+  /// edge lengths and the weights of its terms.
+  struct FaceTerms {
+    double area_m = 0;
+    std::array<double, 3> squared{};  // |e_k|², e_k opposite corner k
+    double forward = 0;               // forward_weight · area_m · A_d / A_m² / 2
+    double anisotropy = 0;            // anisotropy_weight · area_m / A_m
+  };
+  FaceTerms face_terms(int t) const;
+  /// face_energy(t, a, b, c) from face_terms(t), bit for bit.
+  double face_energy(const FaceTerms& terms, const Vec2& a, const Vec2& b, const Vec2& c) const;
   /// Weight of face t's forward stretch (MapOptions::curvature_weight).
   double forward_weight(int t) const;
 
@@ -302,6 +314,7 @@ class SurfaceMap {
     std::vector<Vec2> positions;  // chart positions of vertices
     std::vector<int> end_face;    // M¹ face each walk centre -> vertices[i] ends in
     std::vector<std::array<Vec2, 3>> end_layout;
+    std::vector<FaceTerms> terms;  // face_terms of faces[i]
     Vec2 centre = Vec2::Zero();
     int centre_face = -1;  // face of the centre's start layout
     std::array<Vec2, 3> centre_layout{};
