@@ -221,12 +221,22 @@ void InterSurfaceMap::rollback(Edit& edit) {
 
 // ---------------------------------------------------------------- energy and checks
 
+namespace {
+
+/// `v`, grown to at least n entries (new faces appear with splits).
+template <class T>
+std::vector<T>& fit(std::vector<T>& v, std::size_t n) {
+  if (v.size() < n) v.resize(n);
+  return v;
+}
+
+}  // namespace
+
 double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const {
   // The cached sums of a face are those of the map as committed (see the
   // members' comment); a face without them is cut now and cached.
   const EnergyTerms terms = energy_terms();
-  auto& cache = sums_cache_[s];
-  if (cache.size() < meta_.side[s].faces.size()) cache.resize(meta_.side[s].faces.size());
+  auto& cache = fit(sums_cache_[s], meta_.side[s].faces.size());
   double energy = 0;
   for (int f : faces) {
     CachedSums& entry = cache[f];
@@ -347,8 +357,7 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
   // Committed: the faces of s it changed are exactly `faces`; the other
   // side's faces under the ring changed too, and which they are is not
   // tracked, so all of that side's cached sums go.
-  auto& cache = sums_cache_[s];
-  if (cache.size() < meta_.side[s].faces.size()) cache.resize(meta_.side[s].faces.size());
+  auto& cache = fit(sums_cache_[s], meta_.side[s].faces.size());
   for (std::size_t i = 0; i < faces.size(); ++i) cache[faces[i]] = {sums_stamp_[s], sums[i]};
   ++sums_stamp_[1 - s];
   return energy_before - after;

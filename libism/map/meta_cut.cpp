@@ -554,7 +554,7 @@ std::optional<std::string> add_face_sums(const MetaMesh& meta, const MetaIndex& 
       if (polygon_area(P) > 0 && polygon_area(Q) > 0) {
         // A triangle whose fan is valid is its own (add_piece's) triangulation.
         if (best_fan(P, Q) < 0)
-          sums.forward = sums.backward = HUGE_VAL;
+          sums.set_invalid();
         else
           sums.add_triangle(P, Q, terms,
                             terms.forward_weight(meta.side[1], s == 1 ? f : whole.face));
@@ -934,14 +934,23 @@ double stretch_energy(double forward, double backward, const EnergyTerms& terms,
          terms.inverse_weight * (a1 / (a0 * a0)) * backward;
 }
 
+namespace {
+
+/// |J|²_F / det J of a triangle's map 0 -> 1 (forward = a₁ |J|²_F / 2,
+/// det J = a₁ / a₀): what EnergyTerms::anisotropy penalises.
+double anisotropy_ratio(const StretchTerms& t) {
+  return 2 * t.forward * t.area0 / (t.area1 * t.area1);
+}
+
+}  // namespace
+
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);
   if (!(t.forward < HUGE_VAL)) return HUGE_VAL;
   const double e = stretch_energy(t.forward, t.backward, terms, forward_weight);
   if (terms.anisotropy_weight == 0) return e;
-  // |J|²_F / det J of the map 0 -> 1: forward = a₁ |J|²_F / 2, det J = a₁ / a₀.
-  return e + terms.anisotropy(2 * t.forward * t.area0 / (t.area1 * t.area1), t.area1);
+  return e + terms.anisotropy(anisotropy_ratio(t), t.area1);
 }
 
 namespace {
@@ -986,16 +995,11 @@ double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double for
 void StretchSums::add_triangle(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                                const EnergyTerms& terms, double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);
-  if (!(t.forward < HUGE_VAL)) {
-    forward = backward = HUGE_VAL;
-    return;
-  }
+  if (!(t.forward < HUGE_VAL)) return set_invalid();
   forward += forward_weight * t.forward;
   backward += t.backward;
   if (terms.anisotropy_weight == 0) return;
-  // As triangle_energy: |J|²_F / det J of the map 0 -> 1.
-  const double ratio = 2 * t.forward * t.area0 / (t.area1 * t.area1);
-  const double excess = std::max(0.0, ratio - terms.anisotropy_onset);
+  const double excess = std::max(0.0, anisotropy_ratio(t) - terms.anisotropy_onset);
   anisotropy += t.area1 * excess * excess;
 }
 
@@ -1003,7 +1007,7 @@ void StretchSums::add_piece(const MetaPiece& piece, const EnergyTerms& terms,
                             double forward_weight) {
   if (!for_each_piece_triangle(
           piece, [&](const auto& p, const auto& q) { add_triangle(p, q, terms, forward_weight); }))
-    forward = backward = HUGE_VAL;
+    set_invalid();
 }
 
 double StretchSums::energy(const EnergyTerms& terms) const {

@@ -8,6 +8,7 @@
 #include "map/meta_mesh.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -238,6 +239,8 @@ struct StretchSums {
   /// plus λ / A₁ times the anisotropy sum (equal to the sum of their
   /// triangle_energy up to rounding).
   double energy(const EnergyTerms& terms) const;
+  /// Marks the sums as those of an invalid (non-positive) triangle.
+  void set_invalid() { forward = backward = HUGE_VAL; }
   bool operator==(const StretchSums&) const = default;
 };
 
