@@ -348,15 +348,17 @@ SurfaceMap::FaceTerms SurfaceMap::face_terms(int t) const {
   // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
   k.forward = forward_weight(t) * k.area_m * (total_d / (total_m * total_m)) * 0.5;
   k.anisotropy = options_.anisotropy_weight * (k.area_m / total_m);
+  k.backward_scale = total_m / (total_d * total_d);
   return k;
 }
 
-double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const {
-  return face_energy(face_terms(t), a, b, c);
-}
+namespace {
 
-double SurfaceMap::face_energy(const FaceTerms& k, const Vec2& a, const Vec2& b,
-                               const Vec2& c) const {
+/// SurfaceMap::face_energy's arithmetic, inlined where a ring's faces are
+/// summed at every line-search evaluation.
+[[gnu::always_inline]] inline double face_stretch(const SurfaceMap::FaceTerms& k, const Vec2& a,
+                                                  const Vec2& b, const Vec2& c,
+                                                  const MapOptions& options) {
   const double twice_domain = orient(a, b, c);
   if (!(twice_domain > 0)) return HUGE_VAL;
   const double area_d = 0.5 * twice_domain;
@@ -367,15 +369,25 @@ double SurfaceMap::face_energy(const FaceTerms& k, const Vec2& a, const Vec2& b,
       -(d1.dot(d2) * k.squared[0] + d2.dot(d0) * k.squared[1] + d0.dot(d1) * k.squared[2]) /
       (4 * area_d * area_d);
   const double det = k.area_m / area_d;  // Γγ
-  const double total_d = domain_.total_area(), total_m = surface_area_;
-  double e = k.forward * frob + options_.inverse_stretch_weight * area_d *
-                                    (total_m / (total_d * total_d)) * 0.5 * frob / (det * det);
-  if (options_.anisotropy_weight > 0) {
+  double e = k.forward * frob +
+             options.inverse_stretch_weight * area_d * k.backward_scale * 0.5 * frob / (det * det);
+  if (options.anisotropy_weight > 0) {
     // Γ/γ + γ/Γ = (Γ² + γ²) / Γγ, past its onset.
-    const double excess = std::max(0.0, frob / det - anisotropy_onset(options_));
+    const double excess = std::max(0.0, frob / det - anisotropy_onset(options));
     e += k.anisotropy * excess * excess;
   }
   return e;
+}
+
+}  // namespace
+
+double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& c) const {
+  return face_energy(face_terms(t), a, b, c);
+}
+
+double SurfaceMap::face_energy(const FaceTerms& k, const Vec2& a, const Vec2& b,
+                               const Vec2& c) const {
+  return face_stretch(k, a, b, c, options_);
 }
 
 double SurfaceMap::forward_weight(int t) const {
@@ -473,7 +485,7 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
     corner[c] = p;
     corner[(c + 1) % 3] = ring.positions[i];
     corner[(c + 2) % 3] = ring.positions[(i + 1) % m];
-    sum += face_energy(ring.terms[i], corner[0], corner[1], corner[2]);
+    sum += face_stretch(ring.terms[i], corner[0], corner[1], corner[2], options_);
     if (sum == HUGE_VAL) return sum;
   }
   return sum;

@@ -277,6 +277,7 @@ class SurfaceMap {
     std::array<double, 3> squared{};  // |e_k|², e_k opposite corner k
     double forward = 0;               // forward_weight · area_m · A_d / A_m² / 2
     double anisotropy = 0;            // anisotropy_weight · area_m / A_m
+    double backward_scale = 0;        // A_m / A_d² (the same for every face)
   };
   FaceTerms face_terms(int t) const;
   /// face_energy(t, a, b, c) from face_terms(t), bit for bit.
