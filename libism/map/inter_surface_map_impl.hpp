@@ -113,21 +113,8 @@ struct InterSurfaceMap::Layout {
     int face;
     std::array<int, 3> ref;     // in the order of the face's corners
     std::array<Vec2, 3> shape;  // the face's own layout (meta_face_layout of its lengths)
-    // What the energy uses of `shape` (the one of the chart's side s),
-    // computed once: the line searches move only the other side's corners.
-    SideZeroShape zero;
-    SideOneShape one;
   };
   std::vector<Tri> tris;
-  /// Adds face f of side s, its corners at chart references `ref`, its own
-  /// layout `shape`.
-  void add_tri(int s, int f, const std::array<int, 3>& ref, const std::array<Vec2, 3>& shape) {
-    Tri& tri = tris.emplace_back(Tri{f, ref, shape, {}, {}});
-    if (s == 0)
-      tri.zero = SideZeroShape(shape);
-    else
-      tri.one = SideOneShape(shape);
-  }
   struct Spoke {
     int a, b, edge;
   };

@@ -875,10 +875,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     for (const auto& tri : layout.tris) {
       const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
                                   pos[node_of(tri.ref[2])]};
-      sum += s == 0 ? triangle_energy(tri.zero, SideOneShape(q), terms,
-                                      terms.forward_weight(side1, chart.single_face))
-                    : triangle_energy(SideZeroShape(q), tri.one, terms,
-                                      terms.forward_weight(side1, tri.face));
+      double e;
+      sides(tri.shape, q, tri.face, e);
+      sum += e;
       if (!(sum < HUGE_VAL)) return eval_fail(31);
     }
     return sum;
@@ -1662,8 +1661,8 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
     std::array<int, 3> ref;
     const int c = chart.corner[i];
     ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
-    layout.add_tri(chart.s, chart.faces[i], ref,
-                   meta_face_layout(meta_.side[chart.s].lengths[chart.faces[i]]));
+    layout.tris.push_back(
+        {chart.faces[i], ref, meta_face_layout(meta_.side[chart.s].lengths[chart.faces[i]])});
     layout.spokes.push_back({-1, int(i), chart.spoke[i]});
   }
   return layout;
@@ -1820,13 +1819,13 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     std::array<int, 3> ref;
     const int c = chart.corner[i];
     ref[c] = i < last ? -1 : -2, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int((i + 1) % m);
-    layout.add_tri(s, chart.faces[i], ref, meta_face_layout(S.lengths[chart.faces[i]]));
+    layout.tris.push_back({chart.faces[i], ref, meta_face_layout(S.lengths[chart.faces[i]])});
   }
   // A strict attempt keeps the clearance of moves; the last one may come
   // closer (a split must place its vertex).
   layout.clearance = cap < HUGE_VAL ? 1e-6 : 1e-8;
-  layout.add_tri(s, fa, {-1, -2, 0}, meta_face_layout(S.lengths[fa]));
-  layout.add_tri(s, fb, {-2, -1, int(last)}, meta_face_layout(S.lengths[fb]));
+  layout.tris.push_back({fa, {-1, -2, 0}, meta_face_layout(S.lengths[fa])});
+  layout.tris.push_back({fb, {-2, -1, int(last)}, meta_face_layout(S.lengths[fb])});
   for (std::size_t i = 0; i <= last; ++i)
     layout.spokes.push_back({-1, int(i), i == 0 ? e_vl : i == last ? e_vr : chart.spoke[i]});
   for (std::size_t i = last; i <= m; ++i)

@@ -875,32 +875,21 @@ PieceTriangulation triangulate_piece(const MetaPiece& piece) {
   return overlay;
 }
 
-SideZeroShape::SideZeroShape(const std::array<Vec2, 3>& p) : twice(orient(p[0], p[1], p[2])) {
-  const Vec2 d0 = p[2] - p[1], d1 = p[0] - p[2], d2 = p[1] - p[0];
-  dots = {d1.dot(d2), d2.dot(d0), d0.dot(d1)};
-}
-
-SideOneShape::SideOneShape(const std::array<Vec2, 3>& q)
-    : twice(orient(q[0], q[1], q[2])),
-      squared{(q[2] - q[1]).squaredNorm(), (q[0] - q[2]).squaredNorm(),
-              (q[1] - q[0]).squaredNorm()} {}
-
-StretchTerms triangle_stretch_terms(const SideZeroShape& p, const SideOneShape& q) {
-  const double twice_d = p.twice, twice_m = q.twice;
+StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q) {
+  const double twice_d = orient(p[0], p[1], p[2]);
+  const double twice_m = orient(q[0], q[1], q[2]);
   if (!(twice_d > 0) || !(twice_m > 0)) return {HUGE_VAL, HUGE_VAL, 0, 0};
   const double area_d = 0.5 * twice_d, area_m = 0.5 * twice_m;
   // |J|²_F by the cotangent formula (J: side 0 -> side 1): -(1/4A²) Σ_k
   // (d_{k+1}·d_{k+2}) |e_k|², d_k the side-0 edge opposite corner k, e_k
   // the side-1 one; |J⁻¹|²_F = |J|²_F / det² in 2D.
+  const Vec2 d0 = p[2] - p[1], d1 = p[0] - p[2], d2 = p[1] - p[0];
+  const double s0 = (q[2] - q[1]).squaredNorm(), s1 = (q[0] - q[2]).squaredNorm(),
+               s2 = (q[1] - q[0]).squaredNorm();
   const double frob =
-      -(p.dots[0] * q.squared[0] + p.dots[1] * q.squared[1] + p.dots[2] * q.squared[2]) /
-      (4 * area_d * area_d);
+      -(d1.dot(d2) * s0 + d2.dot(d0) * s1 + d0.dot(d1) * s2) / (4 * area_d * area_d);
   const double det = area_m / area_d;
   return {area_m * 0.5 * frob, area_d * 0.5 * frob / (det * det), area_d, area_m};
-}
-
-StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q) {
-  return triangle_stretch_terms(SideZeroShape(p), SideOneShape(q));
 }
 
 Eigen::Matrix2d affine_linear_part(const std::array<Vec2, 3>& from, const std::array<Vec2, 3>& to) {
@@ -957,11 +946,6 @@ double anisotropy_ratio(const StretchTerms& t) {
 
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight) {
-  return triangle_energy(SideZeroShape(p), SideOneShape(q), terms, forward_weight);
-}
-
-double triangle_energy(const SideZeroShape& p, const SideOneShape& q, const EnergyTerms& terms,
-                       double forward_weight) {
   const StretchTerms t = triangle_stretch_terms(p, q);
   if (!(t.forward < HUGE_VAL)) return HUGE_VAL;
   const double e = stretch_energy(t.forward, t.backward, terms, forward_weight);

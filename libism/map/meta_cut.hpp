@@ -184,29 +184,6 @@ struct StretchTerms {
 };
 StretchTerms triangle_stretch_terms(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q);
 
-/// What triangle_stretch_terms uses of the triangle on side 0: twice its
-/// signed area and the dot products of its edge vectors (d_k opposite
-/// corner k; dots[k] = d_{k+1}·d_{k+2}). A chart whose side-0 triangles
-/// stay fixed while side 1's move (or the other way round) computes the
-/// fixed side's once.
-struct SideZeroShape {
-  double twice = 0;
-  std::array<double, 3> dots{};
-  SideZeroShape() = default;
-  explicit SideZeroShape(const std::array<Vec2, 3>& p);
-};
-/// What it uses of the triangle on side 1: twice its signed area and its
-/// squared edge lengths (opposite corner k).
-struct SideOneShape {
-  double twice = 0;
-  std::array<double, 3> squared{};
-  SideOneShape() = default;
-  explicit SideOneShape(const std::array<Vec2, 3>& q);
-};
-/// triangle_stretch_terms from the two shapes: the same arithmetic, so the
-/// same bits.
-StretchTerms triangle_stretch_terms(const SideZeroShape& p, const SideOneShape& q);
-
 /// The linear part of the affine map taking triangle `from` to triangle `to`
 /// (corner k to corner k); `from` must not be degenerate.
 Eigen::Matrix2d affine_linear_part(const std::array<Vec2, 3>& from, const std::array<Vec2, 3>& to);
@@ -243,9 +220,6 @@ double stretch_energy(double forward, double backward, const EnergyTerms& terms,
 /// is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
-/// The same from the two sides' shapes (same bits).
-double triangle_energy(const SideZeroShape& p, const SideOneShape& q, const EnergyTerms& terms,
-                       double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
 /// What the energy of many triangles sums apart from the sides' total
