@@ -348,17 +348,18 @@ SurfaceMap::FaceTerms SurfaceMap::face_terms(int t) const {
   // normalised by the total areas (metrics.hpp, symmetric_piece_energy).
   k.forward = forward_weight(t) * k.area_m * (total_d / (total_m * total_m)) * 0.5;
   k.anisotropy = options_.anisotropy_weight * (k.area_m / total_m);
-  k.backward_scale = total_m / (total_d * total_d);
   return k;
 }
 
 namespace {
 
-/// SurfaceMap::face_energy's arithmetic, inlined where a ring's faces are
-/// summed at every line-search evaluation.
+/// SurfaceMap::face_energy's arithmetic (backward_scale: SurfaceMap::
+/// backward_scale()), inlined where a ring's faces are summed at every
+/// line-search evaluation.
 [[gnu::always_inline]] inline double face_stretch(const SurfaceMap::FaceTerms& k, const Vec2& a,
                                                   const Vec2& b, const Vec2& c,
-                                                  const MapOptions& options) {
+                                                  const MapOptions& options,
+                                                  double backward_scale) {
   const double twice_domain = orient(a, b, c);
   if (!(twice_domain > 0)) return HUGE_VAL;
   const double area_d = 0.5 * twice_domain;
@@ -370,7 +371,7 @@ namespace {
       (4 * area_d * area_d);
   const double det = k.area_m / area_d;  // Γγ
   double e = k.forward * frob +
-             options.inverse_stretch_weight * area_d * k.backward_scale * 0.5 * frob / (det * det);
+             options.inverse_stretch_weight * area_d * backward_scale * 0.5 * frob / (det * det);
   if (options.anisotropy_weight > 0) {
     // Γ/γ + γ/Γ = (Γ² + γ²) / Γγ, past its onset.
     const double excess = std::max(0.0, frob / det - anisotropy_onset(options));
@@ -387,7 +388,7 @@ double SurfaceMap::face_energy(int t, const Vec2& a, const Vec2& b, const Vec2& 
 
 double SurfaceMap::face_energy(const FaceTerms& k, const Vec2& a, const Vec2& b,
                                const Vec2& c) const {
-  return face_stretch(k, a, b, c, options_);
+  return face_stretch(k, a, b, c, options_, backward_scale());
 }
 
 double SurfaceMap::forward_weight(int t) const {
@@ -479,13 +480,14 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
   (void)v;
   double sum = 0.0;
   const std::size_t m = ring.faces.size();
+  const double scale = backward_scale();
   for (std::size_t i = 0; i < m; ++i) {
     std::array<Vec2, 3> corner;
     const int c = ring.corner[i];
     corner[c] = p;
     corner[(c + 1) % 3] = ring.positions[i];
     corner[(c + 2) % 3] = ring.positions[(i + 1) % m];
-    sum += face_stretch(ring.terms[i], corner[0], corner[1], corner[2], options_);
+    sum += face_stretch(ring.terms[i], corner[0], corner[1], corner[2], options_, scale);
     if (sum == HUGE_VAL) return sum;
   }
   return sum;

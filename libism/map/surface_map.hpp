@@ -277,13 +277,16 @@ class SurfaceMap {
     std::array<double, 3> squared{};  // |e_k|², e_k opposite corner k
     double forward = 0;               // forward_weight · area_m · A_d / A_m² / 2
     double anisotropy = 0;            // anisotropy_weight · area_m / A_m
-    double backward_scale = 0;        // A_m / A_d² (the same for every face)
   };
   FaceTerms face_terms(int t) const;
   /// face_energy(t, a, b, c) from face_terms(t), bit for bit.
   double face_energy(const FaceTerms& terms, const Vec2& a, const Vec2& b, const Vec2& c) const;
   /// Weight of face t's forward stretch (MapOptions::curvature_weight).
   double forward_weight(int t) const;
+  /// A_m / A_d²: the backward term's normalisation, the same for every face.
+  double backward_scale() const {
+    return surface_area_ / (domain_.total_area() * domain_.total_area());
+  }
 
   // Flat-torus layouts (flat_torus_embedding.cpp), for a unit-square torus
   // domain with no pinned vertex.
