@@ -158,8 +158,10 @@ class InterSurfaceMap {
   static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy
-  /// (LineSearch::parabolic line searches inside the kernel of its one-ring
-  /// in a chart); kept only if the map stays valid and the energy drops.
+  /// inside the kernel of its one-ring in a chart (newton_in_kernel in a
+  /// fast chart, smooth_ring; LineSearch::parabolic line searches in the
+  /// others); kept only
+  /// if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
   /// Whether the last optimize_vertex that ran laid its vertex out in a
@@ -252,6 +254,12 @@ class InterSurfaceMap {
   /// The chart's one-ring with its centre vertex alone inside, at the
   /// chart's centre.
   Layout ring_layout(const Chart& chart) const;
+  /// In a fast chart (evaluate sums the layout's triangles without
+  /// cutting), with no anisotropy penalty and the one inner vertex off the
+  /// anchors: each triangle's energy as a function of that vertex
+  /// (CornerStretch), in `corners`; false otherwise.
+  bool smooth_ring(const Chart& chart, const Layout& layout,
+                   std::vector<CornerStretch>& corners) const;
   /// The energy of the ring's faces with the inner vertices placed as in
   /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;

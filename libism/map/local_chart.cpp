@@ -1668,6 +1668,38 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
   return layout;
 }
 
+bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
+                                  std::vector<CornerStretch>& corners) const {
+  // As evaluate's sum without cutting, in a fast chart (developed ones are
+  // left to the line searches: on the two-surface pairs, where they are
+  // most of the charts that are not general, exact minima there led the
+  // genus-2 pair's refinement astray), with one inner vertex off the
+  // anchors and no anisotropy penalty.
+  const EnergyTerms terms = energy_terms();
+  if (chart.kind != Chart::fast || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0 ||
+      terms.anisotropy_weight != 0)
+    return false;
+  const MetaSide& side1 = meta_.side[1];
+  corners.clear();
+  for (const auto& tri : layout.tris) {
+    std::array<Vec2, 3> q;
+    int k = -1;
+    for (int c = 0; c < 3; ++c) {
+      if (tri.ref[c] == -1) k = c;
+      q[c] =
+          tri.ref[c] >= 0 ? chart.anchors[chart.ring_anchor[tri.ref[c]]].pos : layout.inner[0].pos;
+    }
+    if (k < 0) return false;
+    const auto c = chart.s == 0 ? corner_stretch(tri.shape, q, 1, k, terms,
+                                                 terms.forward_weight(side1, chart.single_face))
+                                : corner_stretch(q, tri.shape, 0, k, terms,
+                                                 terms.forward_weight(side1, tri.face));
+    if (!c) return false;
+    corners.push_back(*c);
+  }
+  return true;
+}
+
 double InterSurfaceMap::optimize_vertex(int s, int v) {
   last_chart_large_ = false;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
@@ -1693,8 +1725,21 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   // is not isometric, costs more than moving gains), and a second round
   // then almost never gets below it (results-two-surfaces.md, stop 40).
   Vec2 p = chart.centre;
-  const double e = minimize_in_kernel(boundary_polygon(chart, 0, m), p, energy,
-                                      LineSearch::parabolic, chart.large() ? before : HUGE_VAL);
+  const std::vector<Vec2> kernel = boundary_polygon(chart, 0, m);
+  std::vector<CornerStretch> corners;
+  double e;
+  if (smooth_ring(chart, layout, corners)) {
+    // The ring's energy is a sum of triangles whose other side is fixed:
+    // Newton steps on its exact derivatives, then the energy as evaluate
+    // defines it.
+    newton_in_kernel(kernel, p, [&](const Vec2& x, Vec2* gradient, Eigen::Matrix2d* hessian) {
+      return corners_energy(corners, x, gradient, hessian);
+    });
+    e = p == chart.centre ? before : energy(p);
+  } else {
+    e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
+                           chart.large() ? before : HUGE_VAL);
+  }
   if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;

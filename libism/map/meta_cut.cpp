@@ -953,6 +953,71 @@ double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& 
   return e + terms.anisotropy(anisotropy_ratio(t), t.area1);
 }
 
+std::optional<CornerStretch> corner_stretch(const std::array<Vec2, 3>& p,
+                                            const std::array<Vec2, 3>& q, int moving, int k,
+                                            const EnergyTerms& terms, double forward_weight) {
+  const std::array<Vec2, 3>& x = moving == 0 ? p : q;
+  const std::array<Vec2, 3>& y = moving == 0 ? q : p;
+  const double fixed_area = 0.5 * orient(y[0], y[1], y[2]);
+  if (!(fixed_area > 0)) return std::nullopt;
+  const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+  // forward = N a₁ / (8 a₀²), backward = N a₀ / (8 a₁²) (triangle_stretch_terms).
+  const double cf = forward_weight * terms.area0 / (terms.area1 * terms.area1);
+  const double cb = terms.inverse_weight * terms.area1 / (terms.area0 * terms.area0);
+  CornerStretch c;
+  c.a = x[k1], c.b = x[k2];
+  c.l0 = (y[k2] - y[k1]).squaredNorm(), c.l1 = (y[k] - y[k2]).squaredNorm();
+  c.l2 = (y[k1] - y[k]).squaredNorm();
+  if (moving == 0) {
+    c.alpha = cf * fixed_area, c.beta = cb / (fixed_area * fixed_area);
+  } else {
+    c.alpha = cb * fixed_area, c.beta = cf / (fixed_area * fixed_area);
+  }
+  return c;
+}
+
+double corners_energy(const std::vector<CornerStretch>& corners, const Vec2& x, Vec2* gradient,
+                      Eigen::Matrix2d* hessian) {
+  double sum = 0;
+  if (!gradient) {
+    for (const CornerStretch& c : corners) sum += c.value(x);
+    return sum;
+  }
+  gradient->setZero(), hessian->setZero();
+  for (const CornerStretch& c : corners) {
+    Vec2 g;
+    Eigen::Matrix2d h;
+    sum += c.derivatives(x, g, h);
+    *gradient += g, *hessian += h;
+  }
+  return sum;
+}
+
+double CornerStretch::value(const Vec2& x) const {
+  const double area = 0.5 * orient(x, a, b);
+  if (!(area > 0)) return HUGE_VAL;
+  const Vec2 e0 = b - a, e1 = x - b, e2 = a - x;
+  const double n = -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
+  return 0.125 * n * (alpha / (area * area) + beta * area);
+}
+
+double CornerStretch::derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d& hessian) const {
+  const double area = 0.5 * orient(x, a, b);
+  if (!(area > 0)) return HUGE_VAL;
+  const Vec2 e0 = b - a, e1 = x - b, e2 = a - x;
+  const double n = -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
+  const Vec2 dn = l0 * (e1 - e2) + (l1 - l2) * e0;           // ∇N; its Hessian is 2 l0 I
+  const Vec2 da = 0.5 * Vec2(a.y() - b.y(), b.x() - a.x());  // ∇a (a is affine in x)
+  const double inv = 1 / area;
+  const double g = alpha / (area * area) + beta * area;
+  const double dg = -2 * alpha * inv * inv * inv + beta, ddg = 6 * alpha * inv * inv * inv * inv;
+  gradient = 0.125 * (g * dn + n * dg * da);
+  hessian =
+      0.125 * (2 * l0 * g * Eigen::Matrix2d::Identity() +
+               dg * (dn * da.transpose() + da * dn.transpose()) + n * ddg * da * da.transpose());
+  return 0.125 * n * g;
+}
+
 namespace {
 
 /// Calls fn(p, q) for each triangle of triangulate_piece(piece), the fan

@@ -220,6 +220,31 @@ double stretch_energy(double forward, double backward, const EnergyTerms& terms,
 /// is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
+/// triangle_energy without the anisotropy penalty as a function of one
+/// corner x of one side's triangle, the rest fixed (a vertex moved in a
+/// chart whose triangles on the other side are fixed): with N the cotangent
+/// sum (4 a₀² |J|²_F, symmetric in the two triangles) and a the moving
+/// triangle's area, the energy is N/8 · (α/a² + β·a), α and β from the other
+/// triangle's area and the terms. `value` gives it (HUGE_VAL where the moving
+/// triangle is not positive), `derivatives` its gradient and Hessian in x
+/// too. Built by corner_stretch.
+struct CornerStretch {
+  Vec2 a, b;          // the moving triangle's other corners, counter-clockwise after x
+  double l0, l1, l2;  // the fixed triangle's squared edge lengths opposite x, a, b
+  double alpha, beta;
+  double value(const Vec2& x) const;
+  double derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d& hessian) const;
+};
+/// The sum of the energies of triangles sharing their moving corner x;
+/// with `gradient` and `hessian` (both or neither), their derivatives too.
+double corners_energy(const std::vector<CornerStretch>& corners, const Vec2& x,
+                      Vec2* gradient = nullptr, Eigen::Matrix2d* hessian = nullptr);
+/// The CornerStretch of corner k of triangle p (side 0) if `moving` is 0, of
+/// triangle q (side 1) if it is 1, both counter-clockwise; nullopt if the
+/// fixed triangle is not positive.
+std::optional<CornerStretch> corner_stretch(const std::array<Vec2, 3>& p,
+                                            const std::array<Vec2, 3>& q, int moving, int k,
+                                            const EnergyTerms& terms, double forward_weight = 1);
 /// Energy of a piece through triangulate_piece (HUGE_VAL if none).
 double piece_energy(const MetaPiece& piece, const EnergyTerms& terms, double forward_weight = 1);
 /// What the energy of many triangles sums apart from the sides' total

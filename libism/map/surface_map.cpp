@@ -1,5 +1,6 @@
 #include "map/surface_map.hpp"
 
+#include "map/meta_cut.hpp"  // CornerStretch
 #include "mesh/curvature.hpp"
 
 #include <algorithm>
@@ -541,6 +542,21 @@ std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edge
 
 namespace {
 
+// Largest step along d from q that keeps every face (q, ring[i], ring[i+1])
+// positive: the kernel of the ring polygon.
+double max_kernel_step(const std::vector<Vec2>& ring, const Vec2& q, const Vec2& d) {
+  const std::size_t m = ring.size();
+  double t = HUGE_VAL;
+  for (std::size_t i = 0; i < m; ++i) {
+    const Vec2& a = ring[i];
+    const Vec2& b = ring[(i + 1) % m];
+    const double o = orient(q, a, b);
+    const double rate = d.x() * (a.y() - b.y()) - d.y() * (a.x() - b.x());  // d/dt orient
+    if (rate < 0) t = std::min(t, -o / rate);
+  }
+  return t;
+}
+
 // Brent's minimisation of f over [lo, hi] (lo < 0 < hi) starting from the
 // point 0 whose value f0 is known: each step fits a parabola through the
 // three best points and takes its vertex when it lies inside the bracket
@@ -604,22 +620,9 @@ std::pair<double, double> parabolic_search(const std::function<double(double)>& 
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy, LineSearch rule,
                           double give_up_above) {
-  const std::size_t m = ring.size();
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
-  // Largest step along d that keeps every face (p, ring[i], ring[i+1])
-  // positive: the kernel of the ring polygon.
-  auto max_step = [&](const Vec2& q, const Vec2& d) {
-    double t = HUGE_VAL;
-    for (std::size_t i = 0; i < m; ++i) {
-      const Vec2& a = ring[i];
-      const Vec2& b = ring[(i + 1) % m];
-      const double o = orient(q, a, b);
-      const double rate = d.x() * (a.y() - b.y()) - d.y() * (a.x() - b.x());  // d/dt orient
-      if (rate < 0) t = std::min(t, -o / rate);
-    }
-    return t;
-  };
+  auto max_step = [&](const Vec2& q, const Vec2& d) { return max_kernel_step(ring, q, d); };
   double scale = 0.0;
   for (const Vec2& q : ring) scale = std::max(scale, (q - p).norm());
   double e = e0;
@@ -686,6 +689,41 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
   return e;
 }
 
+double newton_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
+                        const std::function<double(const Vec2&, Vec2*, Eigen::Matrix2d*)>& energy,
+                        int max_steps) {
+  Vec2 gradient;
+  Eigen::Matrix2d hessian;
+  double e = energy(p, &gradient, &hessian);
+  if (!(e < HUGE_VAL)) return HUGE_VAL;
+  double scale = 0.0;
+  for (const Vec2& q : ring) scale = std::max(scale, (q - p).norm());
+  for (int step = 0; step < max_steps; ++step) {
+    if (!gradient.allFinite() || !hessian.allFinite()) break;
+    // The Hessian's smaller eigenvalue; shifted up to a small fraction of
+    // the larger where it is not clearly positive.
+    const double trace = hessian.trace(), gap = hessian(0, 0) - hessian(1, 1);
+    const double root = std::sqrt(gap * gap + 4 * hessian(0, 1) * hessian(0, 1));
+    const double low = 0.5 * (trace - root), high = 0.5 * (trace + root);
+    if (!(high > 0)) break;
+    if (low < 1e-6 * high) hessian.diagonal().array() += 1e-6 * high - low;
+    const Vec2 d = -hessian.ldlt().solve(gradient);
+    const double slope = gradient.dot(d);
+    if (!d.allFinite() || !(slope < 0)) break;
+    double t = std::min(1.0, 0.95 * max_kernel_step(ring, p, d));
+    double next = HUGE_VAL;
+    for (int back = 0; back < 40 && t * d.norm() > 1e-12 * scale; ++back, t *= 0.5) {
+      next = energy(p + t * d, nullptr, nullptr);
+      if (next <= e + 1e-4 * t * slope) break;
+    }
+    if (!(next <= e + 1e-4 * t * slope) || !(next < e)) break;
+    p += t * d;
+    e = energy(p, &gradient, &hessian);
+    if (t * d.norm() < 1e-9 * scale) break;
+  }
+  return e;
+}
+
 double SurfaceMap::optimize_vertex(int v) {
   if (pinned_[v] || vertex_faces_[v].empty()) return 0.0;
   Ring ring;
@@ -705,8 +743,33 @@ double SurfaceMap::optimize_vertex(int v) {
     minimize_in_kernel(ring.positions, p, [&](const Vec2& q) { return ring_energy(ring, v, q); });
     return move_vertex(v, ring, p) ? 1e-300 : 0.0;  // repaired; no energy to compare
   }
-  const double e =
-      minimize_in_kernel(ring.positions, p, [&](const Vec2& q) { return ring_energy(ring, v, q); });
+  double e;
+  if (options_.anisotropy_weight == 0 && options_.vertex_step == MapOptions::VertexStep::newton) {
+    // Each face's energy as a function of p (CornerStretch: the same terms
+    // as face_stretch); Newton steps on their exact derivatives.
+    const std::size_t m = ring.faces.size();
+    const double scale = backward_scale();
+    std::vector<CornerStretch> corners(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      const FaceTerms& k = ring.terms[i];
+      const int c = ring.corner[i];
+      corners[i] = {ring.positions[i],
+                    ring.positions[(i + 1) % m],
+                    k.squared[c],
+                    k.squared[(c + 1) % 3],
+                    k.squared[(c + 2) % 3],
+                    2 * k.forward,
+                    options_.inverse_stretch_weight * scale / (k.area_m * k.area_m)};
+    }
+    newton_in_kernel(ring.positions, p,
+                     [&](const Vec2& x, Vec2* gradient, Eigen::Matrix2d* hessian) {
+                       return corners_energy(corners, x, gradient, hessian);
+                     });
+    e = p == ring.centre ? e0 : ring_energy(ring, v, p);
+  } else {
+    e = minimize_in_kernel(ring.positions, p,
+                           [&](const Vec2& q) { return ring_energy(ring, v, q); });
+  }
   if (!(e < e0 * (1 - 1e-12))) return 0.0;
   return move_vertex(v, ring, p) ? e0 - e : 0.0;
 }

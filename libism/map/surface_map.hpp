@@ -75,6 +75,13 @@ struct MapOptions {
   double anisotropy_weight = 0.0;
   /// The ratio Γ/γ above which the penalty bites (K >= 1).
   double anisotropy_threshold = 10.0;
+  /// How a vertex's move is found inside its one-ring: Newton steps on the
+  /// energy's exact derivatives (newton_in_kernel), or two rounds of golden
+  /// line searches along central-difference gradients (minimize_in_kernel:
+  /// the optimiser before stop 51; it leaves squeezed maps stuck, which the
+  /// repair tests need). With an anisotropy penalty: line searches always.
+  enum class VertexStep { newton, line_search };
+  VertexStep vertex_step = VertexStep::newton;
 };
 
 /// The anisotropy penalty's r₀ for a threshold K on Γ/γ: K + 1/K.
@@ -111,6 +118,18 @@ enum class LineSearch { golden, parabolic };
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy,
                           LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL);
+
+/// Minimises a smooth energy over p inside the kernel of the polygon `ring`
+/// by Newton steps (the Hessian shifted to be positive definite where it is
+/// not), each backtracked until the energy drops enough (Armijo) and kept
+/// inside 0.95 of the way to the kernel's edge; stops when a step moves p
+/// less than 1e-9 of the ring's size or after `max_steps`. `energy(q,
+/// gradient, hessian)` returns the energy at q (HUGE_VAL: not a valid place)
+/// and, when the pointers are not null, its derivatives there. p moves to
+/// the best point found; returns the energy there.
+double newton_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
+                        const std::function<double(const Vec2&, Vec2*, Eigen::Matrix2d*)>& energy,
+                        int max_steps = 20);
 
 /// A flat-torus layout of M² over a domain that is the unit square with
 /// opposite sides identified (domain::torus_3x3(): no cones, the vertex
@@ -201,7 +220,8 @@ class SurfaceMap {
   }
 
   /// Moves vertex v inside the kernel of its one-ring to lower the symmetric
-  /// energy; returns the energy decrease (0 when it did not move).
+  /// energy (MapOptions::vertex_step); returns the energy decrease (0 when
+  /// it did not move).
   double optimize_vertex(int v);
   /// Releases a cone of M¹ that sits on vertex v: moves it to the neighbour
   /// of v where, with v (and, see MapOptions::cone_relaxation_rings, its

@@ -30,6 +30,17 @@ void expect_valid(const MetaPiece& piece, const PieceTriangulation& tri) {
   }
 }
 
+// A random counter-clockwise triangle with corners in [-1, 1]², twice its
+// area above `min_twice_area`.
+std::array<Vec2, 3> ccw_triangle_in_square(std::mt19937& rng, double min_twice_area) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::array<Vec2, 3> t;
+  do {
+    for (auto& p : t) p = Vec2(u(rng), u(rng));
+  } while (!(orient(t[0], t[1], t[2]) > min_twice_area));
+  return t;
+}
+
 MetaPiece piece_of(std::vector<Vec2> p, std::vector<Vec2> q) {
   MetaPiece piece;
   piece.area = {polygon_area(p), polygon_area(q)};
@@ -157,13 +168,7 @@ TEST(TriangulatePiece, PolygonThatIsNotSimpleHasNone) {
 TEST(StretchMoments, SumsTheStretchTermsOfItsTriangles) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
-  auto random_triangle = [&] {
-    std::array<Vec2, 3> t;
-    do {
-      for (auto& p : t) p = Vec2(u(rng), u(rng));
-    } while (!(orient(t[0], t[1], t[2]) > 0.05));
-    return t;
-  };
+  auto random_triangle = [&] { return ccw_triangle_in_square(rng, 0.05); };
   for (int trial = 0; trial < 20; ++trial) {
     StretchMoments moments;
     std::vector<std::array<Vec2, 3>> chart, other;
@@ -195,6 +200,58 @@ TEST(StretchMoments, SumsTheStretchTermsOfItsTriangles) {
   EXPECT_FALSE(
       none.add({Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)}, {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)}));
   EXPECT_EQ(none.area, 0);
+}
+
+// CornerStretch: the energy of a triangle as a function of one corner is
+// triangle_energy's (either side moving, any corner, a forward weight and
+// unequal total areas), and its gradient and Hessian are the energy's
+// (central differences); not positive where the moving triangle is not.
+TEST(CornerStretch, IsTheTriangleEnergyOfOneCornerWithItsDerivatives) {
+  std::mt19937 rng(11);
+  auto random_triangle = [&] { return ccw_triangle_in_square(rng, 0.1); };
+  EnergyTerms terms{2.5, 0.7, 0.3};
+  for (int trial = 0; trial < 24; ++trial) {
+    const int moving = trial % 2, k = (trial / 2) % 3;
+    const double weight = 0.5 + 0.1 * trial;
+    const std::array<Vec2, 3> p = random_triangle(), q = random_triangle();
+    const auto c = corner_stretch(p, q, moving, k, terms, weight);
+    ASSERT_TRUE(c);
+    auto energy_at = [&](const Vec2& x) {
+      std::array<Vec2, 3> pp = p, qq = q;
+      (moving == 0 ? pp : qq)[k] = x;
+      return triangle_energy(pp, qq, terms, weight);
+    };
+    const Vec2 x = (moving == 0 ? p : q)[k];
+    Vec2 g;
+    Eigen::Matrix2d h;
+    const double e = c->derivatives(x, g, h);
+    EXPECT_NEAR(e, energy_at(x), 1e-12 * e);
+    EXPECT_DOUBLE_EQ(c->value(x), e);
+    const double step = 1e-5;
+    for (int i = 0; i < 2; ++i) {
+      Vec2 d = Vec2::Zero();
+      d[i] = step;
+      const double numeric = (energy_at(x + d) - energy_at(x - d)) / (2 * step);
+      EXPECT_NEAR(g[i], numeric, 1e-5 * (std::abs(numeric) + e)) << trial;
+      Vec2 gp, gm;
+      Eigen::Matrix2d unused;
+      c->derivatives(x + d, gp, unused);
+      c->derivatives(x - d, gm, unused);
+      const Vec2 column = (gp - gm) / (2 * step);
+      EXPECT_NEAR(h(0, i), column[0], 1e-5 * (h.norm() + e)) << trial;
+      EXPECT_NEAR(h(1, i), column[1], 1e-5 * (h.norm() + e)) << trial;
+    }
+    EXPECT_NEAR(h(0, 1), h(1, 0), 1e-12 * h.norm());
+    // Beyond the opposite edge the moving triangle is folded.
+    const std::array<Vec2, 3>& tri = moving == 0 ? p : q;
+    const Vec2 folded = tri[(k + 1) % 3] + tri[(k + 2) % 3] - x;
+    EXPECT_EQ(c->value(folded), HUGE_VAL);
+  }
+  // The fixed triangle must be positive.
+  const std::array<Vec2, 3> good{Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)},
+      bad{Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)};
+  EXPECT_FALSE(corner_stretch(good, bad, 0, 0, terms));
+  EXPECT_TRUE(corner_stretch(bad, good, 0, 0, terms));
 }
 
 }  // namespace ism

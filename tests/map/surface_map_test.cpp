@@ -194,6 +194,38 @@ TEST(MinimizeInKernel, ParabolicRuleFindsTheMinimumWithFewerEvaluations) {
   }
 }
 
+// newton_in_kernel: on a smooth energy with exact derivatives it reaches
+// the minimum (to rounding) in a few steps, where two rounds of line
+// searches get near it; a minimum beyond the kernel is not crossed to.
+TEST(NewtonInKernel, ReachesTheMinimumInAFewSteps) {
+  std::size_t calls = 0;
+  const auto bowl = counting_bowl(calls);
+  auto with_derivatives = [&](const Vec2& q, Vec2* g, Eigen::Matrix2d* h) {
+    const Vec2 d = q - kBowlTarget;
+    if (g) {
+      *g = Vec2(6 * d.x() + d.y(), 2 * d.y() + d.x());
+      *h << 6, 1, 1, 2;
+    }
+    return bowl(q);
+  };
+  Vec2 p(-0.3, 0.2);
+  const double e = newton_in_kernel(kBowlRing, p, with_derivatives);
+  EXPECT_NEAR(e, 1, 1e-15);
+  EXPECT_LT((p - kBowlTarget).norm(), 1e-9);
+  EXPECT_LE(calls, 6u);
+  // The same bowl centred outside the ring (at (1.5, 0)): p stays inside.
+  auto outside = [&](const Vec2& q, Vec2* g, Eigen::Matrix2d* h) {
+    const Vec2 d = q - Vec2(1.5, 0);
+    if (g) *g = 2 * d, *h = 2 * Eigen::Matrix2d::Identity();
+    return d.squaredNorm();
+  };
+  Vec2 r(0, 0);
+  const double f = newton_in_kernel(kBowlRing, r, outside);
+  EXPECT_LT(f, 2.25);
+  EXPECT_LT(std::abs(r.x()) + std::abs(r.y()), 1.0);
+  EXPECT_GT(r.x(), 0.5);
+}
+
 // give_up_above: a bound the first round gets below changes nothing; one it
 // does not get below ends the search after that round (fewer evaluations,
 // short of what the second round would have gained).
