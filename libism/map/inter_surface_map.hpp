@@ -160,8 +160,7 @@ class InterSurfaceMap {
   /// Moves vertex v of `side` over the other side to lower the energy
   /// inside the kernel of its one-ring in a chart (newton_in_kernel in a
   /// fast chart, smooth_ring; LineSearch::parabolic line searches in the
-  /// others); kept only
-  /// if the map stays valid and the energy drops.
+  /// others); kept only if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
   /// Whether the last optimize_vertex that ran laid its vertex out in a

@@ -993,11 +993,14 @@ double corners_energy(const std::vector<CornerStretch>& corners, const Vec2& x, 
   return sum;
 }
 
+double CornerStretch::cotangent_sum(const Vec2& e0, const Vec2& e1, const Vec2& e2) const {
+  return -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
+}
+
 double CornerStretch::value(const Vec2& x) const {
   const double area = 0.5 * orient(x, a, b);
   if (!(area > 0)) return HUGE_VAL;
-  const Vec2 e0 = b - a, e1 = x - b, e2 = a - x;
-  const double n = -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
+  const double n = cotangent_sum(b - a, x - b, a - x);
   return 0.125 * n * (alpha / (area * area) + beta * area);
 }
 
@@ -1005,7 +1008,7 @@ double CornerStretch::derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d
   const double area = 0.5 * orient(x, a, b);
   if (!(area > 0)) return HUGE_VAL;
   const Vec2 e0 = b - a, e1 = x - b, e2 = a - x;
-  const double n = -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
+  const double n = cotangent_sum(e0, e1, e2);
   const Vec2 dn = l0 * (e1 - e2) + (l1 - l2) * e0;           // ∇N; its Hessian is 2 l0 I
   const Vec2 da = 0.5 * Vec2(a.y() - b.y(), b.x() - a.x());  // ∇a (a is affine in x)
   const double inv = 1 / area;

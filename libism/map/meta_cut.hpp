@@ -234,6 +234,10 @@ struct CornerStretch {
   double alpha, beta;
   double value(const Vec2& x) const;
   double derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d& hessian) const;
+
+ private:
+  /// N from the moving triangle's edges opposite x, a, b.
+  double cotangent_sum(const Vec2& e0, const Vec2& e1, const Vec2& e2) const;
 };
 /// The sum of the energies of triangles sharing their moving corner x;
 /// with `gradient` and `hessian` (both or neither), their derivatives too.

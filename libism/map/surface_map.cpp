@@ -622,7 +622,6 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           double give_up_above) {
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
-  auto max_step = [&](const Vec2& q, const Vec2& d) { return max_kernel_step(ring, q, d); };
   double scale = 0.0;
   for (const Vec2& q : ring) scale = std::max(scale, (q - p).norm());
   double e = e0;
@@ -630,8 +629,8 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     const double norm = d.norm();
     if (!(norm > 0)) return;
     d /= norm;
-    const double hi = 0.95 * std::min(max_step(p, d), 2 * scale);
-    const double lo = -0.95 * std::min(max_step(p, -d), 2 * scale);
+    const double hi = 0.95 * std::min(max_kernel_step(ring, p, d), 2 * scale);
+    const double lo = -0.95 * std::min(max_kernel_step(ring, p, -d), 2 * scale);
     if (!(hi > lo)) return;
     if (rule == LineSearch::parabolic) {
       if (!(hi > 0 && lo < 0)) return;
@@ -749,7 +748,9 @@ double SurfaceMap::optimize_vertex(int v) {
     // as face_stretch); Newton steps on their exact derivatives.
     const std::size_t m = ring.faces.size();
     const double scale = backward_scale();
-    std::vector<CornerStretch> corners(m);
+    // Per-thread scratch: one ring's terms, rebuilt for every vertex.
+    thread_local std::vector<CornerStretch> corners;
+    corners.resize(m);
     for (std::size_t i = 0; i < m; ++i) {
       const FaceTerms& k = ring.terms[i];
       const int c = ring.corner[i];
