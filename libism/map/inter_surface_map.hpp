@@ -254,9 +254,9 @@ class InterSurfaceMap {
   /// chart's centre.
   Layout ring_layout(const Chart& chart) const;
   /// In a fast chart (evaluate sums the layout's triangles without
-  /// cutting), with no anisotropy penalty and the one inner vertex off the
-  /// anchors: each triangle's energy as a function of that vertex
-  /// (CornerStretch), in `corners`; false otherwise.
+  /// cutting), with the one inner vertex off the anchors: each triangle's
+  /// energy, penalty included, as a function of that vertex (CornerStretch),
+  /// in `corners`; false otherwise.
   bool smooth_ring(const Chart& chart, const Layout& layout,
                    std::vector<CornerStretch>& corners) const;
   /// The energy of the ring's faces with the inner vertices placed as in

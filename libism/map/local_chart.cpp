@@ -1670,14 +1670,14 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
 
 bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
                                   std::vector<CornerStretch>& corners) const {
-  // As evaluate's sum without cutting, in a fast chart (developed ones are
-  // left to the line searches: on the two-surface pairs, where they are
-  // most of the charts that are not general, exact minima there led the
-  // genus-2 pair's refinement astray), with one inner vertex off the
-  // anchors and no anisotropy penalty.
+  // As evaluate's sum without cutting, in a fast chart, with one inner
+  // vertex off the anchors. Developed charts are left to the line searches:
+  // with Newton steps there, fandisk's refinement on the equilateral
+  // octahedron found no valid place for a split (RefineSurfaces.
+  // HardSplitsAreRelaxedSoACreasedModelCompletes), and the genus-2 pair's
+  // test driver went astray without hard-split relaxation.
   const EnergyTerms terms = energy_terms();
-  if (chart.kind != Chart::fast || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0 ||
-      terms.anisotropy_weight != 0)
+  if (chart.kind != Chart::fast || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0)
     return false;
   const MetaSide& side1 = meta_.side[1];
   corners.clear();

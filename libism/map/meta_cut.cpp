@@ -973,6 +973,13 @@ std::optional<CornerStretch> corner_stretch(const std::array<Vec2, 3>& p,
   } else {
     c.alpha = cb * fixed_area, c.beta = cf / (fixed_area * fixed_area);
   }
+  if (terms.anisotropy_weight != 0) {
+    // EnergyTerms::anisotropy over side 1's area: the fixed triangle's when
+    // side 0 moves, the moving one's otherwise.
+    c.fixed_area = fixed_area, c.onset = terms.anisotropy_onset;
+    (moving == 0 ? c.kappa0 : c.kappa1) =
+        terms.anisotropy_weight / terms.area1 * (moving == 0 ? fixed_area : 1.0);
+  }
   return c;
 }
 
@@ -993,7 +1000,8 @@ double corners_energy(const std::vector<CornerStretch>& corners, const Vec2& x, 
   return sum;
 }
 
-double CornerStretch::cotangent_sum(const Vec2& e0, const Vec2& e1, const Vec2& e2) const {
+[[gnu::always_inline]] inline double CornerStretch::cotangent_sum(const Vec2& e0, const Vec2& e1,
+                                                                  const Vec2& e2) const {
   return -(e1.dot(e2) * l0 + e2.dot(e0) * l1 + e0.dot(e1) * l2);
 }
 
@@ -1001,7 +1009,11 @@ double CornerStretch::value(const Vec2& x) const {
   const double area = 0.5 * orient(x, a, b);
   if (!(area > 0)) return HUGE_VAL;
   const double n = cotangent_sum(b - a, x - b, a - x);
-  return 0.125 * n * (alpha / (area * area) + beta * area);
+  const double e = 0.125 * n * (alpha / (area * area) + beta * area);
+  if (kappa0 == 0 && kappa1 == 0) return e;
+  // As derivatives computes it (the same digits).
+  const double excess = std::max(0.0, 1 / (4 * fixed_area) * n * (1 / area) - onset);
+  return e + (kappa0 + kappa1 * area) * excess * excess;
 }
 
 double CornerStretch::derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d& hessian) const {
@@ -1015,10 +1027,22 @@ double CornerStretch::derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d
   const double g = alpha / (area * area) + beta * area;
   const double dg = -2 * alpha * inv * inv * inv + beta, ddg = 6 * alpha * inv * inv * inv * inv;
   gradient = 0.125 * (g * dn + n * dg * da);
-  hessian =
-      0.125 * (2 * l0 * g * Eigen::Matrix2d::Identity() +
-               dg * (dn * da.transpose() + da * dn.transpose()) + n * ddg * da * da.transpose());
-  return 0.125 * n * g;
+  const Eigen::Matrix2d cross = dn * da.transpose() + da * dn.transpose();
+  hessian = 0.125 *
+            (2 * l0 * g * Eigen::Matrix2d::Identity() + dg * cross + n * ddg * da * da.transpose());
+  const double e = 0.125 * n * g;
+  if (kappa0 == 0 && kappa1 == 0) return e;
+  // r = N / (4 B a) and (κ₀ + κ₁ a) max(0, r − r₀)².
+  const double s = 1 / (4 * fixed_area), r = s * n * inv, excess = r - onset;
+  if (!(excess > 0)) return e;
+  const Vec2 dr = s * (dn * inv - n * inv * inv * da);
+  const Eigen::Matrix2d hr = s * (2 * l0 * inv * Eigen::Matrix2d::Identity() - inv * inv * cross +
+                                  2 * n * inv * inv * inv * da * da.transpose());
+  const double w = kappa0 + kappa1 * area;
+  gradient += kappa1 * excess * excess * da + 2 * w * excess * dr;
+  hessian += 2 * kappa1 * excess * (da * dr.transpose() + dr * da.transpose()) +
+             2 * w * (dr * dr.transpose() + excess * hr);
+  return e + w * excess * excess;
 }
 
 namespace {

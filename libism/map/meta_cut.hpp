@@ -220,18 +220,24 @@ double stretch_energy(double forward, double backward, const EnergyTerms& terms,
 /// is not positive.
 double triangle_energy(const std::array<Vec2, 3>& p, const std::array<Vec2, 3>& q,
                        const EnergyTerms& terms, double forward_weight = 1);
-/// triangle_energy without the anisotropy penalty as a function of one
-/// corner x of one side's triangle, the rest fixed (a vertex moved in a
-/// chart whose triangles on the other side are fixed): with N the cotangent
-/// sum (4 a₀² |J|²_F, symmetric in the two triangles) and a the moving
-/// triangle's area, the energy is N/8 · (α/a² + β·a), α and β from the other
-/// triangle's area and the terms. `value` gives it (HUGE_VAL where the moving
+/// triangle_energy as a function of one corner x of one side's triangle,
+/// the rest fixed (a vertex moved in a chart whose triangles on the other
+/// side are fixed): with N the cotangent sum (4 a₀² |J|²_F, symmetric in the
+/// two triangles), a the moving triangle's area and B the fixed one's, the
+/// stretch is N/8 · (α/a² + β·a), α and β from B and the terms; the
+/// anisotropy penalty, with r = N / (4 B a) (= Γ/γ + γ/Γ), is
+/// (κ₀ + κ₁·a) · max(0, r − r₀)² (its area factor is B's or a's, by which
+/// side is side 1). `value` gives the sum (HUGE_VAL where the moving
 /// triangle is not positive), `derivatives` its gradient and Hessian in x
-/// too. Built by corner_stretch.
+/// too (the penalty is C¹: its Hessian jumps where r crosses r₀). Built by
+/// corner_stretch.
 struct CornerStretch {
   Vec2 a, b;          // the moving triangle's other corners, counter-clockwise after x
   double l0, l1, l2;  // the fixed triangle's squared edge lengths opposite x, a, b
   double alpha, beta;
+  double fixed_area = 0;          // B (needed only with a penalty)
+  double kappa0 = 0, kappa1 = 0;  // the penalty's weights (both 0: none)
+  double onset = 0;               // r₀
   double value(const Vec2& x) const;
   double derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d& hessian) const;
 

@@ -743,7 +743,7 @@ double SurfaceMap::optimize_vertex(int v) {
     return move_vertex(v, ring, p) ? 1e-300 : 0.0;  // repaired; no energy to compare
   }
   double e;
-  if (options_.anisotropy_weight == 0 && options_.vertex_step == MapOptions::VertexStep::newton) {
+  if (options_.vertex_step == MapOptions::VertexStep::newton) {
     // Each face's energy as a function of p (CornerStretch: the same terms
     // as face_stretch); Newton steps on their exact derivatives.
     const std::size_t m = ring.faces.size();
@@ -761,6 +761,12 @@ double SurfaceMap::optimize_vertex(int v) {
                     k.squared[(c + 2) % 3],
                     2 * k.forward,
                     options_.inverse_stretch_weight * scale / (k.area_m * k.area_m)};
+      if (options_.anisotropy_weight > 0) {
+        // face_stretch's penalty: k.anisotropy already holds the surface
+        // face's area (the fixed triangle's).
+        corners[i].fixed_area = k.area_m, corners[i].kappa0 = k.anisotropy;
+        corners[i].onset = anisotropy_onset(options_);
+      }
     }
     newton_in_kernel(ring.positions, p,
                      [&](const Vec2& x, Vec2* gradient, Eigen::Matrix2d* hessian) {

@@ -77,9 +77,9 @@ struct MapOptions {
   double anisotropy_threshold = 10.0;
   /// How a vertex's move is found inside its one-ring: Newton steps on the
   /// energy's exact derivatives (newton_in_kernel), or two rounds of golden
-  /// line searches along central-difference gradients (minimize_in_kernel:
-  /// the optimiser before stop 51; it leaves squeezed maps stuck, which the
-  /// repair tests need). With an anisotropy penalty: line searches always.
+  /// line searches along central-difference gradients (minimize_in_kernel;
+  /// ~10x the ring evaluations, and it leaves squeezed maps stuck, which the
+  /// repair tests need).
   enum class VertexStep { newton, line_search };
   VertexStep vertex_step = VertexStep::newton;
 };

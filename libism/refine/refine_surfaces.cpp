@@ -138,6 +138,12 @@ LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
   return local_relaxation(map, options, nullptr);
 }
 
+LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
+                                         const std::vector<std::pair<int, int>>& seeds,
+                                         std::size_t max_moves) {
+  return relax_from(map, options, seeds, max_moves, nullptr);
+}
+
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats stats;
   Backoff backoff_state;

@@ -107,4 +107,12 @@ double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options 
 LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
                                                const SurfaceRefineOptions& options);
 
+/// The same queue started from `seeds` (pairs side, vertex) instead of every
+/// vertex, at most `max_moves` optimisations: what refine_surfaces runs
+/// after a hard split (SurfaceRefineOptions::hard_split_growth), for
+/// drivers of their own. Each kept move goes through the options' hooks.
+LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
+                                         const std::vector<std::pair<int, int>>& seeds,
+                                         std::size_t max_moves);
+
 }  // namespace ism

@@ -210,8 +210,13 @@ TEST(CornerStretch, IsTheTriangleEnergyOfOneCornerWithItsDerivatives) {
   std::mt19937 rng(11);
   auto random_triangle = [&] { return ccw_triangle_in_square(rng, 0.1); };
   EnergyTerms terms{2.5, 0.7, 0.3};
-  for (int trial = 0; trial < 24; ++trial) {
+  int penalised = 0;
+  for (int trial = 0; trial < 48; ++trial) {
     const int moving = trial % 2, k = (trial / 2) % 3;
+    // The second half with the anisotropy penalty: half of it with the onset
+    // low (most triangles past it), half with it out of reach.
+    terms.anisotropy_weight = trial < 24 ? 0.0 : 0.8;
+    terms.anisotropy_onset = trial < 36 ? 2.2 : 1e3;
     const double weight = 0.5 + 0.1 * trial;
     const std::array<Vec2, 3> p = random_triangle(), q = random_triangle();
     const auto c = corner_stretch(p, q, moving, k, terms, weight);
@@ -225,6 +230,11 @@ TEST(CornerStretch, IsTheTriangleEnergyOfOneCornerWithItsDerivatives) {
     Vec2 g;
     Eigen::Matrix2d h;
     const double e = c->derivatives(x, g, h);
+    if (trial >= 24) {
+      EnergyTerms plain = terms;
+      plain.anisotropy_weight = 0;
+      penalised += e > triangle_energy(p, q, plain, weight) * (1 + 1e-9);
+    }
     EXPECT_NEAR(e, energy_at(x), 1e-12 * e);
     EXPECT_DOUBLE_EQ(c->value(x), e);
     const double step = 1e-5;
@@ -247,6 +257,8 @@ TEST(CornerStretch, IsTheTriangleEnergyOfOneCornerWithItsDerivatives) {
     const Vec2 folded = tri[(k + 1) % 3] + tri[(k + 2) % 3] - x;
     EXPECT_EQ(c->value(folded), HUGE_VAL);
   }
+  EXPECT_GE(penalised, 6);
+  EXPECT_LE(penalised, 12);
   // The fixed triangle must be positive.
   const std::array<Vec2, 3> good{Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)},
       bad{Vec2(0, 0), Vec2(0, 1), Vec2(1, 0)};
