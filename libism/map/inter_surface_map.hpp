@@ -154,7 +154,7 @@ class InterSurfaceMap {
   /// vertex's old ring and the two new faces) over that of the old ring
   /// before it; 0 before any split.
   double last_split_growth() const { return last_split_growth_; }
-  static constexpr int kSplitRetries = 3;
+  static constexpr int kSplitRetries = 6;
   static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy
@@ -253,8 +253,9 @@ class InterSurfaceMap {
   /// The chart's one-ring with its centre vertex alone inside, at the
   /// chart's centre.
   Layout ring_layout(const Chart& chart) const;
-  /// In a fast chart (evaluate sums the layout's triangles without
-  /// cutting), with the one inner vertex off the anchors: each triangle's
+  /// In a fast or developed chart (evaluate sums the layout's triangles
+  /// without cutting; in a developed one, where the forward weight is one
+  /// per triangle), with the one inner vertex off the anchors: each triangle's
   /// energy, penalty included, as a function of that vertex (CornerStretch),
   /// in `corners`; false otherwise.
   bool smooth_ring(const Chart& chart, const Layout& layout,

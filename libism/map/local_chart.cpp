@@ -1670,15 +1670,15 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
 
 bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
                                   std::vector<CornerStretch>& corners) const {
-  // As evaluate's sum without cutting, in a fast chart, with one inner
-  // vertex off the anchors. Developed charts are left to the line searches:
-  // with Newton steps there, fandisk's refinement on the equilateral
-  // octahedron found no valid place for a split (RefineSurfaces.
-  // HardSplitsAreRelaxedSoACreasedModelCompletes), and the genus-2 pair's
-  // test driver went astray without hard-split relaxation.
+  // As evaluate's sum without cutting, with one inner vertex off the
+  // anchors: in a fast chart (one face of t), or in a developed one (an
+  // isometric development of t with none of its vertices inside the ring:
+  // every ring triangle is one affine map there too) unless the forward
+  // weight varies over a triangle (a density on side 1 while side 0 moves).
   const EnergyTerms terms = energy_terms();
-  if (chart.kind != Chart::fast || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0)
-    return false;
+  const bool affine = chart.kind == Chart::fast ||
+                      (chart.kind == Chart::developed && (chart.s == 1 || terms.density1.empty()));
+  if (!affine || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0) return false;
   const MetaSide& side1 = meta_.side[1];
   corners.clear();
   for (const auto& tri : layout.tris) {

@@ -1011,8 +1011,7 @@ double CornerStretch::value(const Vec2& x) const {
   const double n = cotangent_sum(b - a, x - b, a - x);
   const double e = 0.125 * n * (alpha / (area * area) + beta * area);
   if (kappa0 == 0 && kappa1 == 0) return e;
-  // As derivatives computes it (the same digits).
-  const double excess = std::max(0.0, 1 / (4 * fixed_area) * n * (1 / area) - onset);
+  const double excess = std::max(0.0, ratio(n, 1 / area) - onset);
   return e + (kappa0 + kappa1 * area) * excess * excess;
 }
 
@@ -1033,7 +1032,7 @@ double CornerStretch::derivatives(const Vec2& x, Vec2& gradient, Eigen::Matrix2d
   const double e = 0.125 * n * g;
   if (kappa0 == 0 && kappa1 == 0) return e;
   // r = N / (4 B a) and (κ₀ + κ₁ a) max(0, r − r₀)².
-  const double s = 1 / (4 * fixed_area), r = s * n * inv, excess = r - onset;
+  const double s = 1 / (4 * fixed_area), excess = ratio(n, inv) - onset;
   if (!(excess > 0)) return e;
   const Vec2 dr = s * (dn * inv - n * inv * inv * da);
   const Eigen::Matrix2d hr = s * (2 * l0 * inv * Eigen::Matrix2d::Identity() - inv * inv * cross +

@@ -244,6 +244,10 @@ struct CornerStretch {
  private:
   /// N from the moving triangle's edges opposite x, a, b.
   double cotangent_sum(const Vec2& e0, const Vec2& e1, const Vec2& e2) const;
+  /// r = N / (4 B a) from N and 1 / a (value and derivatives: the same digits).
+  double ratio(double n, double inverse_area) const {
+    return 1 / (4 * fixed_area) * n * inverse_area;
+  }
 };
 /// The sum of the energies of triangles sharing their moving corner x;
 /// with `gradient` and `hessian` (both or neither), their derivatives too.
