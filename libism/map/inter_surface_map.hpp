@@ -253,9 +253,13 @@ class InterSurfaceMap {
   /// The chart's one-ring with its centre vertex alone inside, at the
   /// chart's centre.
   Layout ring_layout(const Chart& chart) const;
-  /// In a fast or developed chart (evaluate sums the layout's triangles
-  /// without cutting; in a developed one, where the forward weight is one
-  /// per triangle), with the one inner vertex off the anchors: each triangle's
+  /// Whether every triangle of the chart's ring is one affine map with one
+  /// forward weight (evaluate then sums them without cutting): a fast chart,
+  /// or a developed one unless side 0 moves under a density on side 1
+  /// (whose weight varies over the faces of side 1 a triangle covers).
+  bool affine_ring(const Chart& chart) const;
+  /// In a chart with an affine ring, with the one inner vertex off the
+  /// anchors: each triangle's
   /// energy, penalty included, as a function of that vertex (CornerStretch),
   /// in `corners`; false otherwise.
   bool smooth_ring(const Chart& chart, const Layout& layout,

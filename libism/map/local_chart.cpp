@@ -867,10 +867,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             ? triangle_energy(mine, theirs, terms, terms.forward_weight(side1, chart.single_face))
             : triangle_energy(theirs, mine, terms, terms.forward_weight(side1, face));
   };
-  // (A developed chart of side 0 spans several faces of side 1: with a
-  // forward weight their pieces are weighed apart, below.)
-  if (chart.kind != Chart::general && !out &&
-      (s == 1 || chart.kind == Chart::fast || terms.density1.empty())) {
+  if (!out && affine_ring(chart)) {
     double sum = 0;
     for (const auto& tri : layout.tris) {
       const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
@@ -1668,17 +1665,20 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
   return layout;
 }
 
+bool InterSurfaceMap::affine_ring(const Chart& chart) const {
+  // A developed chart is an isometric development of t with none of its
+  // vertices inside the ring: each ring triangle is one affine map, as in
+  // a fast chart (one face of t).
+  return chart.kind == Chart::fast ||
+         (chart.kind == Chart::developed && (chart.s == 1 || options_.forward_density.empty()));
+}
+
 bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
                                   std::vector<CornerStretch>& corners) const {
-  // As evaluate's sum without cutting, with one inner vertex off the
-  // anchors: in a fast chart (one face of t), or in a developed one (an
-  // isometric development of t with none of its vertices inside the ring:
-  // every ring triangle is one affine map there too) unless the forward
-  // weight varies over a triangle (a density on side 1 while side 0 moves).
+  // As evaluate's sum without cutting, with one inner vertex off the anchors.
+  if (!affine_ring(chart) || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0)
+    return false;
   const EnergyTerms terms = energy_terms();
-  const bool affine = chart.kind == Chart::fast ||
-                      (chart.kind == Chart::developed && (chart.s == 1 || terms.density1.empty()));
-  if (!affine || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0) return false;
   const MetaSide& side1 = meta_.side[1];
   corners.clear();
   for (const auto& tri : layout.tris) {
