@@ -89,13 +89,12 @@ struct InterSurfaceOptions {
 
 /// What the local operations did (for reports and tests).
 struct MapOperationStats {
-  std::size_t optimizations = 0;   // optimize_vertex calls that ran
-  std::size_t moves = 0;           // kept
-  std::size_t fast_path = 0;       // charts inside one face of the other side
-  std::size_t developed = 0;       // charts isometric over several faces
-  std::size_t general = 0;         // charts with the other side's vertices or bends inside
-  std::size_t general_newton = 0;  // general charts placed by Newton steps on chart_corners
-  std::size_t rejected = 0;        // moves refused by the transaction's check
+  std::size_t optimizations = 0;  // optimize_vertex calls that ran
+  std::size_t moves = 0;          // kept
+  std::size_t fast_path = 0;      // charts inside one face of the other side
+  std::size_t developed = 0;      // charts isometric over several faces
+  std::size_t general = 0;        // charts with the other side's vertices or bends inside
+  std::size_t rejected = 0;       // moves refused by the transaction's check
   std::size_t splits = 0;
   std::size_t splits_in_place = 0;   // splits that needed the in-place fallback
   std::size_t split_retries = 0;     // splits undone, their neighbourhood moved, tried again
@@ -159,12 +158,10 @@ class InterSurfaceMap {
   static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy
-  /// inside the kernel of its one-ring in a chart (newton_in_kernel on the
-  /// exact energy where the ring is affine, smooth_ring; in a small general
-  /// chart on an approximation of it, chart_corners, its point kept if the
-  /// energy drops there; LineSearch::parabolic line searches otherwise);
-  /// kept only if the map stays valid and the energy drops. Returns the
-  /// gain.
+  /// inside the kernel of its one-ring in a chart (newton_in_kernel in a
+  /// fast chart, smooth_ring; LineSearch::parabolic line searches in the
+  /// others); kept only if the map stays valid and the energy drops.
+  /// Returns the gain.
   double optimize_vertex(int side, int v);
   /// Whether the last optimize_vertex that ran laid its vertex out in a
   /// large chart (one whose ring holds much of the other side, as a cone of
@@ -267,13 +264,6 @@ class InterSurfaceMap {
   /// in `corners`; false otherwise.
   bool smooth_ring(const Chart& chart, const Layout& layout,
                    std::vector<CornerStretch>& corners) const;
-  /// The same terms for any chart, the chart's positions standing for the
-  /// other side's metric (exact only where affine_ring holds; elsewhere an
-  /// approximation, with forward weight 1 when side 0 moves outside a fast
-  /// chart); false if a triangle of the other side's shape is not positive
-  /// or the inner vertex is on an anchor.
-  bool chart_corners(const Chart& chart, const Layout& layout,
-                     std::vector<CornerStretch>& corners) const;
   /// The energy of the ring's faces with the inner vertices placed as in
   /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;

@@ -1676,18 +1676,10 @@ bool InterSurfaceMap::affine_ring(const Chart& chart) const {
 bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
                                   std::vector<CornerStretch>& corners) const {
   // As evaluate's sum without cutting, with one inner vertex off the anchors.
-  return affine_ring(chart) && chart_corners(chart, layout, corners);
-}
-
-bool InterSurfaceMap::chart_corners(const Chart& chart, const Layout& layout,
-                                    std::vector<CornerStretch>& corners) const {
-  if (layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0) return false;
+  if (!affine_ring(chart) || layout.inner.size() != 1 || layout.inner[0].on_anchor >= 0)
+    return false;
   const EnergyTerms terms = energy_terms();
   const MetaSide& side1 = meta_.side[1];
-  // Side 0 moving: the forward weight of the face of side 1 the chart is
-  // (a fast chart's); elsewhere it varies under the ring, and 1 stands in.
-  const double weight0 =
-      chart.single_face >= 0 ? terms.forward_weight(side1, chart.single_face) : 1.0;
   corners.clear();
   for (const auto& tri : layout.tris) {
     std::array<Vec2, 3> q;
@@ -1698,7 +1690,8 @@ bool InterSurfaceMap::chart_corners(const Chart& chart, const Layout& layout,
           tri.ref[c] >= 0 ? chart.anchors[chart.ring_anchor[tri.ref[c]]].pos : layout.inner[0].pos;
     }
     if (k < 0) return false;
-    const auto c = chart.s == 0 ? corner_stretch(tri.shape, q, 1, k, terms, weight0)
+    const auto c = chart.s == 0 ? corner_stretch(tri.shape, q, 1, k, terms,
+                                                 terms.forward_weight(side1, chart.single_face))
                                 : corner_stretch(q, tri.shape, 0, k, terms,
                                                  terms.forward_weight(side1, tri.face));
     if (!c) return false;
@@ -1744,24 +1737,8 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
     });
     e = p == chart.centre ? before : energy(p);
   } else {
-    // A general chart (small: a large one's content is far from t's
-    // metric): Newton steps on its ring's triangles as if the chart were
-    // t's metric (chart_corners), kept where the energy as evaluate defines
-    // it drops (results-two-surfaces.md, stop 54); otherwise line searches.
-    e = HUGE_VAL;
-    if (!chart.large() && chart_corners(chart, layout, corners)) {
-      Vec2 q = p;
-      newton_in_kernel(kernel, q, [&](const Vec2& x, Vec2* gradient, Eigen::Matrix2d* hessian) {
-        return corners_energy(corners, x, gradient, hessian);
-      });
-      if (q != chart.centre) {
-        const double eq = energy(q);
-        if (eq < before * (1 - 1e-12)) p = q, e = eq, ++stats_.general_newton;
-      }
-    }
-    if (p == chart.centre)
-      e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
-                             chart.large() ? before : HUGE_VAL);
+    e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
+                           chart.large() ? before : HUGE_VAL);
   }
   if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
   layout.inner[0].pos = p;

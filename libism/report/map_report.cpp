@@ -38,7 +38,6 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["fast_path_fraction"] = double(o.fast_path) / n;
   j["developed_fraction"] = double(o.developed) / n;
   j["general_fraction"] = double(o.general) / n;
-  j["general_newton_fraction"] = double(o.general_newton) / n;
   j["splits_in_place"] = o.splits_in_place;
   j["split_retries"] = o.split_retries;
   j["splits_old_vertex_moved"] = o.splits_old_moved;

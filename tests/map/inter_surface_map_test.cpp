@@ -699,9 +699,7 @@ TEST(InterSurfaceMap, BothSidesRefineSpotAndBunny) {
   ISM_REQUIRE_SHARED_MODELS();
   const MapMeasures m = refine_pair_checked(
       "spot / bunny_small", compatible_pms("spot.obj", "bunny_small.obj", 120, 0), 4);
-  // Measured 0.417 (0.552 with line searches only in general charts, 0.39-0.56 over variants of
-  // their Newton steps: this small pair's path swings; 0.499 without hard-split relaxation).
-  EXPECT_GT(m.symmetric_efficiency, 0.33);
+  EXPECT_GT(m.symmetric_efficiency, 0.33);  // measured 0.552 (0.499 without hard-split relaxation)
 }
 
 // Genus 1: a generated torus and cup.obj, both from the 3x3 torus grid,
@@ -714,9 +712,9 @@ TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
       {simplify_constrained(trace_torus_network(shapes::torus(300)), grid),
        simplify_constrained(trace_torus_network(decimated_model("cup.obj", 150)), grid)},
       2);
-  // Measured 0.307 (0.296 with line searches only in general charts, 0.274 also in developed ones,
-  // 0.239 also without hard-split relaxation; 0.225-0.281 over the last changes of the line
-  // searches, 0.247-0.305 with golden sections, 0.189 with every split allowed to move the old
+  // Measured 0.296 (0.274 with line searches in developed charts, 0.239 also without hard-split
+  // relaxation; 0.225-0.281 over the last changes of the
+  // line searches, 0.247-0.305 with golden sections, 0.189 with every split allowed to move the old
   // vertex): the path swings with rounding. A winding base map ends near 0.1
   // (docs/results-two-surfaces.md).
   EXPECT_GT(m.symmetric_efficiency, 0.2);
@@ -728,7 +726,7 @@ TEST(InterSurfaceMap, BothSidesRefineGenusOneTorusAndCup) {
 // sides after every operation, every move's gain checked against the
 // energy's drop (~5 min). This driver moves only the new ring and the other
 // side's vertices in it, relaxing from them after a hard split (no sweeps):
-// 0.66 here; the example with sweeps reaches 0.79
+// 0.64 here; the example with sweeps reaches 0.79
 // (docs/results-two-surfaces.md).
 TEST(InterSurfaceMap, BothSidesRefineGenusTwoDoubleTorusAndEightLoop) {
   ISM_REQUIRE_SHARED_MODELS();
@@ -736,8 +734,7 @@ TEST(InterSurfaceMap, BothSidesRefineGenusTwoDoubleTorusAndEightLoop) {
       refine_pair_checked("double_torus / eight_loop2",
                           compatible_pms("double_torus.obj", "eight_loop2.obj", 70, 2), 5);
   EXPECT_GT(m.symmetric_efficiency,
-            0.3);  // measured 0.659 (0.642 with line searches only in general charts, 0.592 also in
-                   // developed ones; 0.041 with
+            0.3);  // measured 0.642 (0.592 with line searches in developed charts; 0.041 with
                    // Newton steps there but no hard-split relaxation)
 }
 
