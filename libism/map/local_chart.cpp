@@ -867,7 +867,8 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
             ? triangle_energy(mine, theirs, terms, terms.forward_weight(side1, chart.single_face))
             : triangle_energy(theirs, mine, terms, terms.forward_weight(side1, face));
   };
-  if (!out && affine_ring(chart)) {
+  // Every triangle of the ring one affine map: the energy is their sum.
+  auto affine_sum = [&] {
     double sum = 0;
     for (const auto& tri : layout.tris) {
       const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
@@ -878,7 +879,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       if (!(sum < HUGE_VAL)) return eval_fail(31);
     }
     return sum;
-  }
+  };
+  const bool affine = affine_ring(chart);
+  if (!out && affine) return affine_sum();
   if (chart.kind == Chart::fast) {
     // One face of t holds the ring and all it moves: the layout's triangles
     // are the pieces (each in that face), the inner edges cross nothing, and
@@ -1266,10 +1269,16 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
 
   // Only the fragments of t's content that the inner edges run through are
   // cut into cells; the others are cells as they are. (The cells of the
-  // whole ring, below, when that does not apply.)
+  // whole ring, below, when that does not apply.) A developed chart's
+  // proposal needs no cells: its energy is the triangles' sum, and the
+  // transaction checks its pieces.
   double sum = HUGE_VAL;
   bool summed = false;
-  if (chart.kind == Chart::general && chart.large()) {
+  if (affine) {
+    sum = affine_sum();
+    if (!(sum < HUGE_VAL)) return HUGE_VAL;
+    summed = true;
+  } else if (chart.kind == Chart::general && chart.large()) {
     const std::size_t F = chart.fragments.size();
     auto& cut = buffers.cut;
     cut.assign(F, 0);
