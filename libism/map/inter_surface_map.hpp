@@ -265,7 +265,10 @@ class InterSurfaceMap {
   bool smooth_ring(const Chart& chart, const Layout& layout,
                    std::vector<CornerStretch>& corners) const;
   /// The energy of the ring's faces with the inner vertices placed as in
-  /// `layout` (HUGE_VAL if not valid); with `out`, what to write.
+  /// `layout` (HUGE_VAL if not valid); with `out`, what to write. Where
+  /// affine_ring holds, the energy is the ring triangles' sum and the
+  /// pieces are not cut here: apply()'s check is what finds an invalid
+  /// proposal there.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
   /// Checks the changed faces of side s after an edit (see the file
   /// comment); their energy when asked.
