@@ -894,16 +894,12 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       if (b.minCoeff() < layout.clearance) return eval_fail(96);  // too close to an edge of t
       out->locations[0].push_back({in.vertex, MetaLocation{-1, chart.single_face, b / b.sum()}});
     }
-    double sum = 0;
-    for (const auto& tri : layout.tris) {
-      const std::array<Vec2, 3> q{pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])],
-                                  pos[node_of(tri.ref[2])]};
-      if (!(orient(q[0], q[1], q[2]) > 0)) return eval_fail(140);
-      double e;
-      sides(tri.shape, q, tri.face, e);
-      sum += e;
-      if (!(sum < HUGE_VAL)) return eval_fail(31);
-    }
+    for (const auto& tri : layout.tris)
+      if (!(orient(pos[node_of(tri.ref[0])], pos[node_of(tri.ref[1])], pos[node_of(tri.ref[2])]) >
+            0))
+        return eval_fail(140);
+    const double sum = affine_sum();
+    if (!(sum < HUGE_VAL)) return HUGE_VAL;
     for (const auto& spoke : layout.spokes) out->lists.push_back({spoke.edge, {}});
     return sum;
   }
@@ -1736,25 +1732,25 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   Vec2 p = chart.centre;
   const std::vector<Vec2> kernel = boundary_polygon(chart, 0, m);
   std::vector<CornerStretch> corners;
-  double e;
-  if (smooth_ring(chart, layout, corners)) {
+  const bool smooth = smooth_ring(chart, layout, corners);
+  if (smooth) {
     // The ring's energy is a sum of triangles whose other side is fixed:
-    // Newton steps on its exact derivatives, then the energy as evaluate
-    // defines it.
+    // Newton steps on its exact derivatives; the energy as evaluate
+    // defines it comes with the proposal below.
     newton_in_kernel(kernel, p, [&](const Vec2& x, Vec2* gradient, Eigen::Matrix2d* hessian) {
       return corners_energy(corners, x, gradient, hessian);
     });
-    e = p == chart.centre ? before : energy(p);
   } else {
-    e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
-                           chart.large() ? before : HUGE_VAL);
+    const double e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
+                                        chart.large() ? before : HUGE_VAL);
+    if (!(e < before * (1 - 1e-12))) return 0.0;
   }
-  if (!(e < before * (1 - 1e-12)) || p == chart.centre) return 0.0;
+  if (p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
   Proposal proposal;
   const double predicted = evaluate(chart, layout, &proposal);
-  if (!(predicted < HUGE_VAL)) return 0.0;
+  if (!(predicted < (smooth ? before * (1 - 1e-12) : HUGE_VAL))) return 0.0;
   const auto gain = apply(s, chart.faces, proposal, before, true);
   if (!gain) {
     ++stats_.rejected;
