@@ -37,17 +37,18 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
   // With a forced target, any gain is taken (the caller relaxes and judges).
   if (to >= 0) best.gain = -HUGE_VAL;
 
+  Ring candidate;  // (its storage reused from candidate to candidate)
+  std::vector<std::array<int, 3>> slots;
   for (std::size_t j = 0; j < m; ++j) {
     const int w = around[j];
     if (at_domain_vertex_[w] >= 0 || pinned_[w] || (to >= 0 && w != to)) continue;
     // v's ring unwrapped from the vertex after w, so w comes last and its
     // own one-ring lies in one sheet of the cone's chart.
-    Ring vr;
-    if (!build_ring(v, vr, around[(j + 1) % m])) continue;
-    const std::size_t last = vr.vertices.size() - 1;
-    if (vr.vertices[last] != w) continue;
-    const WalkEnd w_end{vr.end_face[last], vr.end_layout[last]};
-    const Vec2 pw = vr.positions[last];
+    if (!build_ring(v, candidate, around[(j + 1) % m])) continue;
+    const std::size_t last = candidate.vertices.size() - 1;
+    if (candidate.vertices[last] != w) continue;
+    const WalkEnd w_end{candidate.end_face[last], candidate.end_layout[last]};
+    const Vec2 pw = candidate.positions[last];
 
     // w's one-ring (ccw from v) in w's sheet, by w's own walks.
     std::vector<int> w_vertices;
@@ -90,11 +91,11 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
     };
     double before = 0;
     for (std::size_t i = 0; i <= last; ++i) {
-      const int f = vr.faces[i];
-      const int a = vr.vertices[i], b = vr.vertices[(i + 1) % (last + 1)];
+      const int f = candidate.faces[i];
+      const int a = candidate.vertices[i], b = candidate.vertices[(i + 1) % (last + 1)];
       // The face (v, w, next) wraps the cut: take `next` from w's sheet.
-      const Vec2 pb = i == last ? w_ring.back() : vr.positions[i + 1];
-      before += face_with(f, v, Vec2::Zero(), a, vr.positions[i], b, pb);
+      const Vec2 pb = i == last ? w_ring.back() : candidate.positions[i + 1];
+      before += face_with(f, v, Vec2::Zero(), a, candidate.positions[i], b, pb);
     }
     // w's faces without v: w_ring[k], w_ring[k+1] for k = 1 .. size-2.
     for (std::size_t k = 1; k + 1 < w_ring.size(); ++k)
@@ -103,14 +104,24 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
 
     // After: w at the cone (origin), v free inside its new ring: the
     // vertices after w around v, then the origin (w) last.
-    std::vector<Vec2> ring(vr.positions.begin(), vr.positions.end());
+    std::vector<Vec2> ring(candidate.positions.begin(), candidate.positions.end());
     ring.back() = Vec2::Zero();
+    // Each face's corners of v, a and b, and its terms (build_ring's), are
+    // the same at every point the search tries: face_with's sum, bit for bit.
+    slots.clear();
+    for (std::size_t i = 0; i <= last; ++i) {
+      const int f = candidate.faces[i];
+      slots.push_back({corner_of(f, v), corner_of(f, candidate.vertices[i]),
+                       corner_of(f, candidate.vertices[(i + 1) % (last + 1)])});
+    }
     auto energy_after_v = [&](const Vec2& p) {
       double e = 0;
       for (std::size_t i = 0; i <= last; ++i) {
-        const int f = vr.faces[i];
-        const int a = vr.vertices[i], b = vr.vertices[(i + 1) % (last + 1)];
-        e += face_with(f, v, p, a, ring[i], b, ring[(i + 1) % (last + 1)]);
+        std::array<Vec2, 3> corner;
+        corner[slots[i][0]] = p;
+        corner[slots[i][1]] = ring[i];
+        corner[slots[i][2]] = ring[(i + 1) % (last + 1)];
+        e += face_energy(candidate.terms[i], corner[0], corner[1], corner[2]);
         if (e == HUGE_VAL) break;
       }
       return e;
@@ -133,7 +144,7 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
       best.gain = gain;
       best.w = w;
       best.pv = pv;
-      best.v_ring = vr;
+      best.v_ring = candidate;
       best.w_ring = w_ring;
       best.w_vertices = w_vertices;
       best.w_end = w_end;

@@ -250,9 +250,9 @@ class InterSurfaceMap {
   /// Each edge of vertex x of a side -> its direction around x, a full turn
   /// scaled to 2π.
   std::map<int, double> vertex_edge_angles(int side, int x) const;
-  /// The chart's one-ring with its centre vertex alone inside, at the
-  /// chart's centre.
-  Layout ring_layout(const Chart& chart) const;
+  /// Writes to `layout` the chart's one-ring with its centre vertex alone
+  /// inside, at the chart's centre (its lists' storage reused).
+  void ring_layout(const Chart& chart, Layout& layout) const;
   /// Whether every triangle of the chart's ring is one affine map with one
   /// forward weight (evaluate then sums them without cutting): a fast chart,
   /// or a developed one unless side 0 moves under a density on side 1

@@ -95,6 +95,26 @@ struct InterSurfaceMap::Chart {
   std::unordered_map<std::uint64_t, int> chord_of;
   /// The fragments whose map is not affine (where edges may bend), in order.
   std::vector<int> curved;
+  /// Back to a default chart, keeping the lists' storage (a chart reused
+  /// for vertex after vertex allocates little).
+  void clear() {
+    s = 0, t = 1, v = -1;
+    faces.clear(), corner.clear(), ring.clear(), spoke.clear(), boundary.clear(), w.clear();
+    boundary_breaks.clear();
+    straight_boundary = straight_spokes = true;
+    centre = Vec2::Zero();
+    kind = general;
+    single_face = -1;
+    anchors.clear(), ring_anchor.clear(), boundary_loop.clear(), interior.clear();
+    loop_start.clear();
+    centre_anchor = -1;
+    chords.clear(), fragments.clear(), chord_fragments.clear(), curved.clear();
+    // (clear() walks every bucket: a large chart's table is let go.)
+    if (chord_of.bucket_count() > 256)
+      decltype(chord_of)().swap(chord_of);
+    else
+      chord_of.clear();
+  }
 };
 
 /// A placement of the region's inner vertices of s in a chart: the vertices

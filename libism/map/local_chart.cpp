@@ -215,7 +215,7 @@ bool InterSurfaceMap::build_chart(int s, int v, Chart& chart) const {
 
 bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
                                        bool ring_only) const {
-  chart = Chart{};
+  chart.clear();
   auto chart_fail = [&](int where) {
     chart_failure_ = where;
     return false;
@@ -1655,9 +1655,10 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
 
 // ---------------------------------------------------------------- operations
 
-InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
+void InterSurfaceMap::ring_layout(const Chart& chart, Layout& layout) const {
   const std::size_t m = chart.faces.size();
-  Layout layout;
+  layout.inner.clear(), layout.tris.clear(), layout.spokes.clear();
+  layout.clearance = Layout{}.clearance;
   layout.inner.push_back({chart.v, chart.centre, -1});
   for (std::size_t i = 0; i < m; ++i) {
     std::array<int, 3> ref;
@@ -1667,7 +1668,6 @@ InterSurfaceMap::Layout InterSurfaceMap::ring_layout(const Chart& chart) const {
         {chart.faces[i], ref, meta_face_layout(meta_.side[chart.s].lengths[chart.faces[i]])});
     layout.spokes.push_back({-1, int(i), chart.spoke[i]});
   }
-  return layout;
 }
 
 bool InterSurfaceMap::affine_ring(const Chart& chart) const {
@@ -1708,7 +1708,10 @@ bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
 double InterSurfaceMap::optimize_vertex(int s, int v) {
   last_chart_large_ = false;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
-  Chart chart;
+  // Per-thread scratch: the chart and layout keep their lists' storage
+  // from vertex to vertex (nothing here optimises a vertex re-entrantly).
+  thread_local Chart chart;
+  thread_local Layout layout;
   if (!build_chart(s, v, chart)) return 0.0;
   last_chart_large_ = chart.large();
   ++stats_.optimizations;
@@ -1716,7 +1719,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
      : chart.kind == Chart::developed ? stats_.developed
                                       : stats_.general);
   const std::size_t m = chart.faces.size();
-  Layout layout = ring_layout(chart);
+  ring_layout(chart, layout);
   const double before = faces_energy(s, chart.faces);
   if (!(before < HUGE_VAL)) return 0.0;
   auto energy = [&](const Vec2& p) {
@@ -1731,7 +1734,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   // then almost never gets below it (results-two-surfaces.md, stop 40).
   Vec2 p = chart.centre;
   const std::vector<Vec2> kernel = boundary_polygon(chart, 0, m);
-  std::vector<CornerStretch> corners;
+  thread_local std::vector<CornerStretch> corners;
   const bool smooth = smooth_ring(chart, layout, corners);
   if (smooth) {
     // The ring's energy is a sum of triangles whose other side is fixed:

@@ -419,8 +419,17 @@ double SurfaceMap::faces_energy(const std::vector<int>& faces) const {
 
 // ---------------------------------------------------------------- rings
 
+void SurfaceMap::Ring::clear() {
+  faces.clear(), corner.clear(), vertices.clear(), positions.clear();
+  end_face.clear(), end_layout.clear(), terms.clear();
+  centre = Vec2::Zero();
+  centre_face = -1;
+  centre_layout = {};
+  single_face = true;
+}
+
 bool SurfaceMap::build_ring(int v, Ring& ring, int start_vertex) const {
-  ring = Ring{};
+  ring.clear();
   if (vertex_faces_[v].empty()) return false;
   const int f0 = start_vertex < 0 ? vertex_faces_[v].front() : face_after(v, start_vertex);
   if (f0 < 0) return false;
@@ -725,7 +734,8 @@ double newton_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
 
 double SurfaceMap::optimize_vertex(int v) {
   if (pinned_[v] || vertex_faces_[v].empty()) return 0.0;
-  Ring ring;
+  // Per-thread scratch: its lists keep their storage from vertex to vertex.
+  thread_local Ring ring;
   if (!build_ring(v, ring)) return 0.0;
   ++optimizations_;
   if (ring.single_face) ++single_face_rings_;
@@ -804,7 +814,8 @@ bool SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& target) {
 
   // New walks from p to every neighbour; commit only if all succeed.
   const std::size_t m = ring.faces.size();
-  std::vector<EdgeWalk> forward(m);
+  thread_local std::vector<EdgeWalk> forward;  // per-thread scratch
+  forward.assign(m, EdgeWalk{});
   for (std::size_t i = 0; i < m; ++i) {
     WalkEnd e;
     if (!trace(face, layout, p, ring.positions[i], forward[i], e)) return false;
@@ -820,7 +831,8 @@ bool SurfaceMap::move_vertex(int v, const Ring& ring, const Vec2& target) {
   // wrong way shows up as a face that does not close. Undo in that case.
   const DomainLocation old_location = location_[v];
   const int old_vertex = at_domain_vertex_[v];
-  std::vector<std::array<EdgeWalk, 3>> old_walks;
+  thread_local std::vector<std::array<EdgeWalk, 3>> old_walks;  // per-thread scratch
+  old_walks.clear();
   for (int f : ring.faces) old_walks.push_back(walks_[f]);
   set_location(v, face, layout, p);
   for (std::size_t i = 0; i < m; ++i) {

@@ -343,7 +343,12 @@ class SurfaceMap {
     int centre_face = -1;  // face of the centre's start layout
     std::array<Vec2, 3> centre_layout{};
     bool single_face = true;
+    /// Empties the ring, keeping its lists' storage (build_ring refills it).
+    void clear();
   };
+  /// Lays out v's ring into `ring` (its lists' storage reused: callers that
+  /// build many rings pass the same one). False where the ring is not a
+  /// closed fan or a walk does not end where its vertex lies.
   bool build_ring(int v, Ring& ring, int start_vertex = -1) const;
   /// Moves the cone on v to neighbour `to` (any gain), or to the neighbour
   /// with the best positive gain when `to` < 0. The gain, or nothing when no

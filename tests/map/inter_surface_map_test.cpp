@@ -35,7 +35,8 @@ struct InterSurfaceMapTestAccess {
                                                     const Vec2& offset) {
     InterSurfaceMap::Chart chart;
     if (!map.build_chart(s, v, chart) || !chart.large()) return {NAN, NAN};
-    auto layout = map.ring_layout(chart);
+    InterSurfaceMap::Layout layout;
+    map.ring_layout(chart, layout);
     layout.inner[0].pos = chart.centre + offset;
     const double summed = map.evaluate(chart, layout, nullptr);
     for (auto& fragment : chart.fragments) fragment.summable = false;
