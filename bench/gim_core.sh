@@ -7,8 +7,8 @@
 # paper's Table 1 beside the equilateral rows. Prints a Markdown table.
 #   bench/gim_core.sh > table.md
 #   MODELS="bunny_small" METRICS=equilateral SIZE=129 bench/gim_core.sh
-#   BEFORE=/path/to/older/gim-remesh bench/gim_core.sh   # also its symmetric
-#     core, in the same run (a before/after comparison on one machine)
+#   BEFORE=/path/to/older/gim-remesh bench/gim_core.sh   # also its two
+#     cores, in the same run (a before/after comparison on one machine)
 source "$(dirname "$0")/common.sh"
 models="${MODELS-bunny_small gargoyle bunny}"
 metrics="${METRICS-right-isosceles equilateral}"
@@ -22,10 +22,10 @@ echo "| model | metric | core | wall s | user s | peak MB | image eff. square | 
 echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for m in $models; do
   for metric in $metrics; do
-    for core in surface-map ${BEFORE:+symmetric-before} symmetric; do
+    for core in ${BEFORE:+surface-map-before} surface-map ${BEFORE:+symmetric-before} symmetric; do
       tag="$m-$metric-$core"
       exe="$bin/gim-remesh"
-      [ "$core" = symmetric-before ] && exe="$BEFORE"
+      [ "${core%-before}" != "$core" ] && exe="$BEFORE"
       /usr/bin/time -f '%e %U %M' -o "$work/$tag.time" "$exe" "$models_dir/$m.obj" \
         -o "$work/$tag.exr" --size "$size" --metric "$metric" --core "${core%-before}" \
         --report "$work/$tag.json" -q >"$work/$tag.out" 2>&1 || true

@@ -37,8 +37,11 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
   // With a forced target, any gain is taken (the caller relaxes and judges).
   if (to >= 0) best.gain = -HUGE_VAL;
 
-  Ring candidate;  // (its storage reused from candidate to candidate)
+  // Work lists, their storage reused from candidate to candidate.
+  Ring candidate;
   std::vector<std::array<int, 3>> slots;
+  std::vector<int> w_vertices, w_faces;
+  std::vector<Vec2> w_ring, ring;
   for (std::size_t j = 0; j < m; ++j) {
     const int w = around[j];
     if (at_domain_vertex_[w] >= 0 || pinned_[w] || (to >= 0 && w != to)) continue;
@@ -51,9 +54,7 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
     const Vec2 pw = candidate.positions[last];
 
     // w's one-ring (ccw from v) in w's sheet, by w's own walks.
-    std::vector<int> w_vertices;
-    std::vector<Vec2> w_ring;
-    std::vector<int> w_faces;
+    w_vertices.clear(), w_ring.clear(), w_faces.clear();
     {
       const int f0 = face_after(w, v);
       int f = f0;
@@ -104,7 +105,7 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
 
     // After: w at the cone (origin), v free inside its new ring: the
     // vertices after w around v, then the origin (w) last.
-    std::vector<Vec2> ring(candidate.positions.begin(), candidate.positions.end());
+    ring.assign(candidate.positions.begin(), candidate.positions.end());
     ring.back() = Vec2::Zero();
     // Each face's corners of v, a and b, and its terms (build_ring's), are
     // the same at every point the search tries: face_with's sum, bit for bit.
@@ -156,7 +157,7 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
   const int w = best.w;
   const Ring& vr = best.v_ring;
   const std::size_t last = vr.vertices.size() - 1;
-  std::vector<Vec2> ring(vr.positions.begin(), vr.positions.end());
+  ring.assign(vr.positions.begin(), vr.positions.end());
   ring.back() = Vec2::Zero();
   // v's new location: from the cone, in the wedge holding pv.
   int face = vr.centre_face;

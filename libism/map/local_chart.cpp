@@ -574,16 +574,18 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   // convex polygon inscribed in a circle first.
   auto make_fragments = [&]() {
     chart.fragments.clear();
-    std::vector<Vec2> position;
+    // Work lists kept per thread (a chart is built for every optimisation).
+    thread_local std::vector<Vec2> position;
+    thread_local std::vector<std::array<int, 2>> segments;
+    thread_local PlanarCells cells;
+    thread_local std::vector<int> common;
+    position.clear(), segments.clear();
     for (const auto& a : chart.anchors) position.push_back(a.pos);
-    std::vector<std::array<int, 2>> segments;
     const std::size_t nb = chart.boundary_loop.size();
     for (std::size_t i = 0; i < nb; ++i)
       segments.push_back({chart.boundary_loop[i], chart.boundary_loop[(i + 1) % nb]});
     for (const auto& c : chart.chords) segments.push_back({c.a, c.b});
-    PlanarCells cells;
     if (!planar_cells(position, segments, cells)) return chart_fail(401);
-    std::vector<int> common;
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const std::span<const int> cell = cells[i];
       Chart::Fragment fragment;

@@ -506,7 +506,8 @@ double SurfaceMap::ring_energy(const Ring& ring, int v, const Vec2& p) const {
 // Kernel of a ring polygon by half-plane clipping, and its centroid: a point
 // where every face (p, ring[i], ring[i+1]) is positive, if any.
 std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring) {
-  std::vector<std::array<Vec2, 2>> edges(ring.size());
+  thread_local std::vector<std::array<Vec2, 2>> edges;  // per-thread scratch
+  edges.resize(ring.size());
   for (std::size_t i = 0; i < ring.size(); ++i) edges[i] = {ring[i], ring[(i + 1) % ring.size()]};
   return kernel_centroid(edges);
 }
@@ -516,10 +517,12 @@ std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edge
   Vec2 lo = edges[0][0], hi = edges[0][0];
   for (const auto& e : edges)
     for (const Vec2& q : e) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  std::vector<Vec2> poly{lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())};
+  // The polygon clipped edge by edge, between two lists kept per thread.
+  thread_local std::vector<Vec2> poly, out;
+  poly.assign({lo, Vec2(hi.x(), lo.y()), hi, Vec2(lo.x(), hi.y())});
   for (std::size_t i = 0; i < edges.size() && !poly.empty(); ++i) {
     const auto& [a, b] = edges[i];
-    std::vector<Vec2> out;
+    out.clear();
     for (std::size_t k = 0; k < poly.size(); ++k) {
       const Vec2& p = poly[k];
       const Vec2& q = poly[(k + 1) % poly.size()];
@@ -527,7 +530,7 @@ std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edge
       if (sp > 0) out.push_back(p);
       if ((sp > 0) != (sq > 0)) out.push_back(p + (q - p) * (sp / (sp - sq)));
     }
-    poly = std::move(out);
+    poly.swap(out);
   }
   if (poly.size() < 3) return std::nullopt;
   // The centroid relative to a corner of the kernel: in absolute coordinates
