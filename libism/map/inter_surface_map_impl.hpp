@@ -96,8 +96,13 @@ struct InterSurfaceMap::Chart {
   /// The fragments whose map is not affine (where edges may bend), in order.
   std::vector<int> curved;
   /// Back to a default chart, keeping the lists' storage (a chart reused
-  /// for vertex after vertex allocates little).
+  /// for vertex after vertex allocates little) unless they held a large
+  /// chart (whose storage, tens of MB on a 70K-face surface, is released).
   void clear() {
+    if (fragments.capacity() > 4 * kLarge) {
+      *this = Chart{};  // a large chart's storage is let go, not kept
+      return;
+    }
     s = 0, t = 1, v = -1;
     faces.clear(), corner.clear(), ring.clear(), spoke.clear(), boundary.clear(), w.clear();
     boundary_breaks.clear();
@@ -109,7 +114,7 @@ struct InterSurfaceMap::Chart {
     loop_start.clear();
     centre_anchor = -1;
     chords.clear(), fragments.clear(), chord_fragments.clear(), curved.clear();
-    // (clear() walks every bucket: a large chart's table is let go.)
+    // (clear() walks every bucket: a large table is let go.)
     if (chord_of.bucket_count() > 256)
       decltype(chord_of)().swap(chord_of);
     else

@@ -579,6 +579,11 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     thread_local std::vector<std::array<int, 2>> segments;
     thread_local PlanarCells cells;
     thread_local std::vector<int> common;
+    if (position.capacity() > 4096) {  // (after a large chart: let its storage go)
+      std::vector<Vec2>().swap(position);
+      std::vector<std::array<int, 2>>().swap(segments);
+      cells = PlanarCells{};
+    }
     position.clear(), segments.clear();
     for (const auto& a : chart.anchors) position.push_back(a.pos);
     const std::size_t nb = chart.boundary_loop.size();
