@@ -149,10 +149,16 @@ double InterSurfaceMap::face_area(int s, int f) const {
 }
 
 std::vector<int> InterSurfaceMap::ring_faces(int s, int v) const {
+  std::vector<int> out;
+  ring_faces(s, v, out);
+  return out;
+}
+
+void InterSurfaceMap::ring_faces(int s, int v, std::vector<int>& out) const {
   const MetaSide& side = meta_.side[s];
   const auto& around = index_[s].vertex_faces[v];
-  std::vector<int> out;
-  if (around.empty()) return out;
+  out.clear();
+  if (around.empty()) return;
   auto corner = [&](int f) {
     const Triangle& t = side.faces[f];
     return t[0] == v ? 0 : t[1] == v ? 1 : 2;
@@ -165,10 +171,9 @@ std::vector<int> InterSurfaceMap::ring_faces(int s, int v) const {
     for (int g : around)
       if (side.faces[g][(corner(g) + 1) % 3] == last) next = g;
     f = next;
-    if (f < 0 || out.size() > around.size()) return {};
+    if (f < 0 || out.size() > around.size()) return out.clear();
   } while (f != out.front());
-  if (out.size() != around.size()) return {};
-  return out;
+  if (out.size() != around.size()) out.clear();
 }
 
 std::vector<int> InterSurfaceMap::neighbours(int s, int v) const {

@@ -302,6 +302,8 @@ class InterSurfaceMap {
   void index_and_measure();
   double face_area(int side, int f) const;
   std::vector<int> ring_faces(int side, int v) const;
+  /// The same into `out` (its storage reused).
+  void ring_faces(int side, int v, std::vector<int>& out) const;
   int add_edge(int side, int u, int v);
 
   MetaMesh meta_;

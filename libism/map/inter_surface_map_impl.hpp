@@ -31,6 +31,11 @@ struct InterSurfaceMap::Edit {
 struct InterSurfaceMap::Proposal {
   std::array<std::vector<std::pair<int, MetaLocation>>, 2> locations;
   std::vector<std::pair<int, std::vector<MetaCrossing>>> lists, other_lists;
+  /// Empty, keeping the outer lists' storage.
+  void clear() {
+    locations[0].clear(), locations[1].clear();
+    lists.clear(), other_lists.clear();
+  }
 };
 
 /// A one-ring of side s around v laid out in a chart of the other side t.

@@ -226,7 +226,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   const MetaSide& T = meta_.side[t];
   const MetaSideIndex& IS = index_[s];
   const MetaSideIndex& IT = index_[t];
-  chart.faces = ring_faces(s, v);
+  ring_faces(s, v, chart.faces);
   const std::size_t m = chart.faces.size();
   if (m < 3) return chart_fail(10);
   if (start >= 0) {
@@ -894,7 +894,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
     // are the pieces (each in that face), the inner edges cross nothing, and
     // the proposal is the inner vertices' places in the face.
     const std::array<Vec2, 3> L = meta_face_layout(meta_.side[t].lengths[chart.single_face]);
-    *out = Proposal{};
+    out->clear();
     for (const auto& in : layout.inner) {
       if (in.on_anchor >= 0) continue;
       const Eigen::Vector3d b = barycentric(in.pos, L[0], L[1], L[2]);
@@ -1442,7 +1442,7 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   if (!out) return sum;
 
   // What to write.
-  *out = Proposal{};
+  out->clear();
   for (std::size_t k = 0; k < layout.inner.size(); ++k) {
     if (layout.inner[k].on_anchor >= 0) continue;
     const Place& p = place[inner_node[k]];
@@ -1519,7 +1519,7 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
   const int s = chart.s, t = chart.t, vt = chart.v;
   const MetaSide& S = meta_.side[s];
   const MetaSide& T = meta_.side[t];
-  out = Proposal{};
+  out.clear();
   // Where a vertex of s sits on t, and an edge's first break from a vertex.
   auto vertex_place = [&](int v) { return vertex_node(meta_, s, v).place[t]; };
   auto first_place = [&](int e, int from) -> std::optional<Place> {
@@ -1758,7 +1758,7 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   if (p == chart.centre) return 0.0;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
-  Proposal proposal;
+  thread_local Proposal proposal;  // (its lists' storage kept; evaluate clears it)
   const double predicted = evaluate(chart, layout, &proposal);
   if (!(predicted < (smooth ? before * (1 - 1e-12) : HUGE_VAL))) return 0.0;
   const auto gain = apply(s, chart.faces, proposal, before, true);
