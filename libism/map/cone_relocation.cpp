@@ -90,13 +90,27 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
       corner[corner_of(f, c)] = pc;
       return face_energy(f, corner[0], corner[1], corner[2]);
     };
-    double before = 0;
+    // v's faces: the corners of v, a and b in face i and its terms
+    // (build_ring's) are the same wherever v goes; face_with's value, bit
+    // for bit, for every point the search below tries.
+    slots.clear();
     for (std::size_t i = 0; i <= last; ++i) {
       const int f = candidate.faces[i];
-      const int a = candidate.vertices[i], b = candidate.vertices[(i + 1) % (last + 1)];
+      slots.push_back({corner_of(f, v), corner_of(f, candidate.vertices[i]),
+                       corner_of(f, candidate.vertices[(i + 1) % (last + 1)])});
+    }
+    auto v_face = [&](std::size_t i, const Vec2& pv, const Vec2& pa, const Vec2& pb) {
+      std::array<Vec2, 3> corner;
+      corner[slots[i][0]] = pv;
+      corner[slots[i][1]] = pa;
+      corner[slots[i][2]] = pb;
+      return face_energy(candidate.terms[i], corner[0], corner[1], corner[2]);
+    };
+    double before = 0;
+    for (std::size_t i = 0; i <= last; ++i) {
       // The face (v, w, next) wraps the cut: take `next` from w's sheet.
       const Vec2 pb = i == last ? w_ring.back() : candidate.positions[i + 1];
-      before += face_with(f, v, Vec2::Zero(), a, candidate.positions[i], b, pb);
+      before += v_face(i, Vec2::Zero(), candidate.positions[i], pb);
     }
     // w's faces without v: w_ring[k], w_ring[k+1] for k = 1 .. size-2.
     for (std::size_t k = 1; k + 1 < w_ring.size(); ++k)
@@ -107,22 +121,10 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
     // vertices after w around v, then the origin (w) last.
     ring.assign(candidate.positions.begin(), candidate.positions.end());
     ring.back() = Vec2::Zero();
-    // Each face's corners of v, a and b, and its terms (build_ring's), are
-    // the same at every point the search tries: face_with's sum, bit for bit.
-    slots.clear();
-    for (std::size_t i = 0; i <= last; ++i) {
-      const int f = candidate.faces[i];
-      slots.push_back({corner_of(f, v), corner_of(f, candidate.vertices[i]),
-                       corner_of(f, candidate.vertices[(i + 1) % (last + 1)])});
-    }
     auto energy_after_v = [&](const Vec2& p) {
       double e = 0;
       for (std::size_t i = 0; i <= last; ++i) {
-        std::array<Vec2, 3> corner;
-        corner[slots[i][0]] = p;
-        corner[slots[i][1]] = ring[i];
-        corner[slots[i][2]] = ring[(i + 1) % (last + 1)];
-        e += face_energy(candidate.terms[i], corner[0], corner[1], corner[2]);
+        e += v_face(i, p, ring[i], ring[(i + 1) % (last + 1)]);
         if (e == HUGE_VAL) break;
       }
       return e;

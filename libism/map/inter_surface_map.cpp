@@ -171,7 +171,10 @@ void InterSurfaceMap::ring_faces(int s, int v, std::vector<int>& out) const {
     for (int g : around)
       if (side.faces[g][(corner(g) + 1) % 3] == last) next = g;
     f = next;
-    if (f < 0 || out.size() > around.size()) return out.clear();
+    if (f < 0 || out.size() > around.size()) {
+      out.clear();
+      return;
+    }
   } while (f != out.front());
   if (out.size() != around.size()) out.clear();
 }
