@@ -23,6 +23,7 @@
 // other side inside, nothing bent) the energy is that of the one-ring's
 // triangles in the chart (the fast path); otherwise that of every piece.
 #include "map/chart_cell.hpp"
+#include "map/disc_layout.hpp"
 #include "map/meta_cut.hpp"
 #include "pm/pm.hpp"
 
@@ -163,6 +164,22 @@ class InterSurfaceMap {
   /// others); kept only if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
+  /// The faces of side 1 around some of its vertices laid out in one face
+  /// F of side 0, for the local re-embedding of a disc (paper §5.1;
+  /// refine/disc_relaxation.hpp): the given vertices that are not pinned
+  /// may move, every other corner of their faces is fixed. Only where all
+  /// of it lies inside F (every corner located in F, no edge crossing an
+  /// edge of side 0, no vertex of side 0 inside), as at fine levels over a
+  /// coarse domain; nothing otherwise. As SurfaceMap::disc_layout, with
+  /// walk_face and walk_layout empty.
+  std::optional<DiscLayout> disc_layout(const std::vector<int>& vertices) const;
+  /// Moves the free vertices of a layout from disc_layout (the map
+  /// unchanged since) to its positions in F, one transaction: kept if each
+  /// stays clear of F's edges (as a vertex move must), the faces stay valid
+  /// and their energy drops. Returns the decrease (0: the map unchanged).
+  double set_disc_layout(const DiscLayout& disc);
+  /// v and the vertices within `rings` edges of it on `side`, nearest first.
+  std::vector<int> rings_around(int side, int v, int rings) const;
   /// Whether the last optimize_vertex that ran laid its vertex out in a
   /// large chart (one whose ring holds much of the other side, as a cone of
   /// a coarse domain's does: its evaluations cost thousands of pieces each).
@@ -305,6 +322,22 @@ class InterSurfaceMap {
   /// The same into `out` (its storage reused).
   void ring_faces(int side, int v, std::vector<int>& out) const;
   int add_edge(int side, int u, int v);
+  /// The chart of a disc of side 1 (disc_layout): one face of side 0, or
+  /// two across the edge they share, the second unfolded; that edge from
+  /// its first vertex to its second in the chart.
+  struct DiscChart {
+    std::array<int, 2> face{-1, -1};
+    std::array<std::array<Vec2, 3>, 2> layout;
+    int edge = -1;
+    Vec2 edge_from = Vec2::Zero(), edge_to = Vec2::Zero();
+    /// Where p -> q crosses the shared edge (parameter along it), if it
+    /// does, clear of both segments' ends by `clearance`.
+    std::optional<double> cross(const Vec2& p, const Vec2& q, double clearance) const;
+  };
+  /// The chart of these faces of side 1, if they lie over one face of
+  /// side 0 (no edge crossing) or over two across one edge (their edges
+  /// crossing only it, once at most), no vertex of side 0 inside.
+  std::optional<DiscChart> disc_chart(const std::vector<int>& faces) const;
 
   MetaMesh meta_;
   MetaIndex index_;

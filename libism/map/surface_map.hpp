@@ -13,6 +13,7 @@
 // stay on their feature vertices of M²; flat ones move freely when released.
 // That keeps every M² one-ring inside a flat region, where the optimisation
 // is an exact planar problem (the paper's fast path, here for every vertex).
+#include "map/disc_layout.hpp"
 #include "map/domain_geometry.hpp"
 #include "pm/pm.hpp"
 
@@ -159,20 +160,6 @@ std::optional<Vec2> kernel_centroid(const std::vector<Vec2>& ring);
 /// The same for the points strictly left of every directed edge (a, b) of
 /// `edges`, in any order (the box around their ends bounds the kernel).
 std::optional<Vec2> kernel_centroid(const std::vector<std::array<Vec2, 2>>& edges);
-
-/// A disc of M² in one chart (SurfaceMap::disc_layout), its vertices and
-/// faces renumbered locally.
-struct DiscLayout {
-  std::vector<int> vertex;      // the map vertex of each local vertex
-  std::vector<char> free;       // per local vertex: 1 if it may move
-  std::vector<Vec2> position;   // per local vertex, in the chart
-  std::vector<int> face;        // the map face of each local face
-  std::vector<Triangle> local;  // the faces with local vertex indices
-  // Where the map's walks from each corner of each face start, in the chart
-  // (the M¹ face and its layout): the fixed ends' starts when installing.
-  std::vector<std::array<int, 3>> walk_face;
-  std::vector<std::array<std::array<Vec2, 3>, 3>> walk_layout;
-};
 
 /// SurfaceMap::split_next() found no valid position for the new vertex;
 /// the map is unchanged.

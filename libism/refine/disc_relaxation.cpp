@@ -57,20 +57,18 @@ std::optional<std::vector<Vec2>> mean_value_positions(const DiscLayout& disc,
   return out;
 }
 
-}  // namespace
-
-double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
-                    const FlatDescentOptions& options) {
-  std::optional<DiscLayout> disc = map.disc_layout(vertices);
-  if (!disc) return 0.0;
-  std::vector<Vec3> surface(disc->vertex.size());
-  for (std::size_t u = 0; u < surface.size(); ++u) surface[u] = map.positions()[disc->vertex[u]];
-  const FlatLayoutEnergy energy(map, disc->face, disc->local);
-  FlatTorusLayout layout{disc->position, {}};
-  layout.shift.assign(disc->face.size(),
+// The disc's free vertices from their mean-value positions (if lower) or
+// where they are, descended together; `positions`: the 3D position of each
+// map vertex.
+void descend_disc(const FlatLayoutEnergy& energy, const std::vector<Vec3>& positions,
+                  DiscLayout& disc, const FlatDescentOptions& options) {
+  std::vector<Vec3> surface(disc.vertex.size());
+  for (std::size_t u = 0; u < surface.size(); ++u) surface[u] = positions[disc.vertex[u]];
+  FlatTorusLayout layout{disc.position, {}};
+  layout.shift.assign(disc.face.size(),
                       {Eigen::Vector2i::Zero(), Eigen::Vector2i::Zero(), Eigen::Vector2i::Zero()});
   double e = energy(layout);
-  if (std::optional<std::vector<Vec2>> start = mean_value_positions(*disc, surface)) {
+  if (std::optional<std::vector<Vec2>> start = mean_value_positions(disc, surface)) {
     std::swap(layout.position, *start);
     const double e_start = energy(layout);
     if (e_start < e)
@@ -78,8 +76,26 @@ double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
     else
       std::swap(layout.position, *start);
   }
-  descend_layout(energy, disc->local, surface, disc->free, layout, options);
-  disc->position = layout.position;
+  descend_layout(energy, disc.local, surface, disc.free, layout, options);
+  disc.position = layout.position;
+}
+
+}  // namespace
+
+double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
+                    const FlatDescentOptions& options) {
+  std::optional<DiscLayout> disc = map.disc_layout(vertices);
+  if (!disc) return 0.0;
+  descend_disc(FlatLayoutEnergy(map, disc->face, disc->local), map.positions(), *disc, options);
+  return map.set_disc_layout(*disc);
+}
+
+double reembed_disc(InterSurfaceMap& map, const std::vector<int>& vertices,
+                    const FlatDescentOptions& options) {
+  std::optional<DiscLayout> disc = map.disc_layout(vertices);
+  if (!disc) return 0.0;
+  descend_disc(FlatLayoutEnergy(map, disc->face, disc->local), map.meta().side[1].positions, *disc,
+               options);
   return map.set_disc_layout(*disc);
 }
 

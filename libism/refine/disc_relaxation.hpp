@@ -5,6 +5,7 @@
 // one vertex, since each is confined by its squeezed neighbours
 // (fandisk.obj's octahedral map kept three faces of domain area 2e-8 that
 // held all but nothing of the energy).
+#include "map/inter_surface_map.hpp"
 #include "map/surface_map.hpp"
 #include "refine/flat_reembedding.hpp"
 
@@ -19,6 +20,12 @@ namespace ism {
 /// the result is installed if it validates and lowers the energy
 /// (SurfaceMap::set_disc_layout). Returns the energy decrease.
 double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
+                    const FlatDescentOptions& options = {200, 1e-6, 10, 8});
+
+/// The same for the symmetric core's side 1 over side 0, where the disc
+/// lies inside one face of side 0 (InterSurfaceMap::disc_layout; 0
+/// otherwise), installed through InterSurfaceMap::set_disc_layout.
+double reembed_disc(InterSurfaceMap& map, const std::vector<int>& vertices,
                     const FlatDescentOptions& options = {200, 1e-6, 10, 8});
 
 /// Re-embeds, worst first, discs around the faces whose energy exceeds

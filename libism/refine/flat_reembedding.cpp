@@ -121,14 +121,20 @@ FlatLayoutEnergy::FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>
           map_faces, std::move(faces)) {}
 
 FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map)
-    : FlatLayoutEnergy(map, map.energy_terms()) {}
+    : FlatLayoutEnergy(map, map.energy_terms(), all_faces(map.meta().side[1].faces.size()),
+                       map.meta().side[1].faces) {}
 
-FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms)
+FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map, const std::vector<int>& map_faces,
+                                   std::vector<Triangle> faces)
+    : FlatLayoutEnergy(map, map.energy_terms(), map_faces, std::move(faces)) {}
+
+FlatLayoutEnergy::FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms,
+                                   const std::vector<int>& map_faces, std::vector<Triangle> faces)
     : FlatLayoutEnergy(
           Setting{map.meta().side[1].positions, map.meta().side[1].faces, terms.area1, terms.area0,
                   terms.inverse_weight, terms.anisotropy_weight, terms.anisotropy_onset,
                   [&map, terms](int t) { return terms.forward_weight(map.meta().side[1], t); }},
-          all_faces(map.meta().side[1].faces.size()), map.meta().side[1].faces) {}
+          map_faces, std::move(faces)) {}
 
 FlatLayoutEnergy::FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
                                    std::vector<Triangle> faces)

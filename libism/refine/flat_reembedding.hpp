@@ -68,6 +68,10 @@ class FlatLayoutEnergy {
   /// (InterSurfaceMap::energy, its anisotropy penalty included) as a function of a
   /// layout of its side 1 (flat_layout(const InterSurfaceMap&, ...)).
   explicit FlatLayoutEnergy(const InterSurfaceMap& map);
+  /// The terms of some faces of its side 1 only (`map_faces`), given with
+  /// their corners renumbered (`faces`), side 0 flat under them.
+  FlatLayoutEnergy(const InterSurfaceMap& map, const std::vector<int>& map_faces,
+                   std::vector<Triangle> faces);
   /// The terms of some faces of the map only (`map_faces`), given with
   /// their corners renumbered (`faces`, indices into a layout's positions).
   FlatLayoutEnergy(const SurfaceMap& map, const std::vector<int>& map_faces,
@@ -88,7 +92,8 @@ class FlatLayoutEnergy {
   };
   FlatLayoutEnergy(const Setting& setting, const std::vector<int>& map_faces,
                    std::vector<Triangle> faces);
-  FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms);
+  FlatLayoutEnergy(const InterSurfaceMap& map, const EnergyTerms& terms,
+                   const std::vector<int>& map_faces, std::vector<Triangle> faces);
 
   std::vector<Triangle> faces_;
   std::vector<Eigen::Matrix2d> gram_;       // Q^T Q, Q the surface edges from corner 0

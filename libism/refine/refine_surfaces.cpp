@@ -1,5 +1,7 @@
 #include "refine/refine_surfaces.hpp"
 
+#include "refine/disc_relaxation.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -107,14 +109,25 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   for (const auto& [side, v] : seeds) enqueue(side, v);
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   const double threshold = options.local_relaxation_gain * map.energy() / vertices;
+  std::vector<int> gaining(map.meta().side[1].n_vertices(), 0);  // moves that gained, per vertex
   for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
     const double g = optimise(map, options, side, v, backoff);
     stats.gain += g;
-    if (g > threshold)
-      for (int w : map.neighbours(side, v)) enqueue(side, w);
+    if (!(g > threshold)) continue;
+    for (int w : map.neighbours(side, v)) enqueue(side, w);
+    if (side != 1 || options.local_disc_every <= 0 || ++gaining[v] % options.local_disc_every != 0)
+      continue;
+    const std::vector<int> disc = map.rings_around(1, v, options.local_disc_rings);
+    const double d = reembed_disc(map, disc);
+    ++stats.discs;
+    if (!(d > 0)) continue;
+    ++stats.discs_applied;
+    stats.gain += d;
+    after(map, options, {SurfaceStep::optimise, 1, v, d});
+    for (int w : disc) enqueue(1, w);
   }
   return stats;
 }
@@ -146,6 +159,11 @@ LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefi
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats stats;
+  auto add = [&](const LocalRelaxationStats& local) {
+    stats.local_moves += local.moves;
+    stats.discs += local.discs;
+    stats.discs_applied += local.discs_applied;
+  };
   Backoff backoff_state;
   Backoff* backoff = options.large_chart_backoff ? &backoff_state : nullptr;
   const std::size_t total_splits = map.splits_total(0) + map.splits_total(1);
@@ -183,9 +201,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     if (map.last_split_growth() > options.hard_split_growth) {
       ++stats.hard_splits;
       if (options.hard_split_relaxation > 0)
-        stats.local_moves +=
-            relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff)
-                .moves;
+        add(relax_from(map, options, region, options.hard_split_relaxation * region.size(),
+                       backoff));
     }
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
@@ -194,7 +211,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         ++stats.sweeps;
         if (sweep(map, options, backoff) < 1e-3 * e) break;
       }
-      stats.local_moves += local_relaxation(map, options, backoff).moves;
+      add(local_relaxation(map, options, backoff));
       last_sweep = total;
     }
     if (options.progress && total_splits)
@@ -214,7 +231,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     ++stats.final_sweeps;
     if (sweep(map, options, backoff) < options.final_relative_gain * e) break;
   }
-  stats.local_moves += local_relaxation(map, options, backoff).moves;
+  add(local_relaxation(map, options, backoff));
   stats.large_chart_skips = backoff_state.skipped();
   stats.energy = map.energy();
   return stats;

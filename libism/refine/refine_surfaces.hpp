@@ -45,6 +45,13 @@ struct SurfaceRefineOptions {
   /// confined by its squeezed neighbours.
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// During local relaxation, a vertex of side 1 that keeps gaining has the
+  /// disc of `local_disc_rings` rings around it re-embedded whole after
+  /// every `local_disc_every` gaining moves (0: never), where the disc lies
+  /// inside one face of side 0 (reembed_disc, refine/disc_relaxation.hpp;
+  /// RefineOptions::local_disc_every's counterpart).
+  int local_disc_every = 0;
+  int local_disc_rings = 3;
   /// After a hard split, one that raised the energy of its faces more than
   /// `hard_split_growth`-fold (InterSurfaceMap::last_split_growth(): a
   /// nearly degenerate piece, which the new ring's one optimisation may
@@ -81,9 +88,10 @@ struct SurfaceRefineOptions {
 
 struct SurfaceRefineStats {
   std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
-  std::size_t local_moves = 0;        // moves of the local relaxation queues
-  std::size_t hard_splits = 0;        // splits above hard_split_growth, relaxed
-  std::size_t large_chart_skips = 0;  // optimisations skipped by large_chart_backoff
+  std::size_t local_moves = 0;               // moves of the local relaxation queues
+  std::size_t discs = 0, discs_applied = 0;  // their disc re-embeddings: tried, kept
+  std::size_t hard_splits = 0;               // splits above hard_split_growth, relaxed
+  std::size_t large_chart_skips = 0;         // optimisations skipped by large_chart_backoff
   std::size_t global_steps = 0, global_steps_applied = 0;  // before_final: run, gained
   double energy = 0;
 };
@@ -103,7 +111,7 @@ std::string describe_stop(const InterSurfaceMap& map, const std::string& what);
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// The local relaxation queue described at SurfaceRefineOptions (with its
-/// gain and budget): the energy gained and the moves made (no discs).
+/// gain, budget and discs): the energy gained, the moves and discs made.
 LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
                                                const SurfaceRefineOptions& options);
 

@@ -47,6 +47,8 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["final_sweeps"] = stats.final_sweeps;
   j["hard_splits"] = stats.hard_splits;
   j["large_chart_skips"] = stats.large_chart_skips;
+  j["discs"] = stats.discs;
+  j["discs_applied"] = stats.discs_applied;
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
   return j;

@@ -12,6 +12,7 @@
 #include "mesh/mesh_check.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"
+#include "refine/disc_relaxation.hpp"
 #include "refine/refine.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
@@ -193,6 +194,69 @@ TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
   EXPECT_EQ(without.stats.large_chart_skips, 0u);
   EXPECT_LT(with.optimizations, without.optimizations);
   EXPECT_GT(with.efficiency, without.efficiency - 1e-3);
+}
+
+// Discs of side 1 over one face of the octahedron or two across an edge
+// (InterSurfaceMap::disc_layout) are re-embedded whole during local
+// relaxation (SurfaceRefineOptions::local_disc_every): every step valid
+// with its gain the drop of the energy; a disc laid out and installed
+// unmoved changes nothing; discs spanning two faces exist and are kept.
+TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
+  const auto [pm, domain] = blob_over_octahedron(800);
+  SurfaceMap coarse(domain, pm);
+  refine_to(coarse, 150);
+  const auto meta = meta_mesh(coarse);
+  ASSERT_TRUE(meta);
+  InterSurfaceMap map(*meta, side_from_domain(domain, pm), side_from_pm(pm),
+                      {0, coarse.splits_applied()});
+  SurfaceRefineOptions options;
+  // (The remeshers: every 10, 3 rings; here few vertices keep gaining, and
+  // 3 rings of a 400-vertex blob mostly span more than two domain faces.)
+  options.local_disc_every = 1;
+  options.local_disc_rings = 2;
+  options.validate_each_step = true;
+  double energy = map.energy();
+  options.on_step = [&](const SurfaceStep& step) {
+    const double after = map.energy();
+    if (step.kind == SurfaceStep::optimise) EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    energy = after;
+  };
+  const SurfaceRefineStats stats = refine_surfaces(map, options);
+  EXPECT_FALSE(map.validate());
+  EXPECT_GT(stats.discs_applied, 0u);
+  EXPECT_GT(map.measures().symmetric_efficiency, 0.9);
+
+  // Every vertex's 2-ring disc, where one can be laid out: over how many
+  // faces of side 0; installed where it is, nothing changes.
+  std::size_t over[3] = {0, 0, 0};
+  const double before = map.energy();
+  for (std::size_t v = 0; v < map.n_vertices(1); ++v) {
+    const auto disc = map.disc_layout(map.rings_around(1, int(v), 2));
+    if (!disc) continue;
+    std::vector<int> faces;
+    for (int u : disc->vertex) faces.push_back(map.meta().side[1].location[u].face);
+    std::sort(faces.begin(), faces.end());
+    ++over[std::unique(faces.begin(), faces.end()) - faces.begin()];
+    EXPECT_EQ(map.set_disc_layout(*disc), 0.0);
+  }
+  EXPECT_EQ(map.energy(), before);
+  EXPECT_GT(over[1], 0u);
+  EXPECT_GT(over[2], 0u);
+  // And re-embedded whole, each a valid map with its energy lower by the gain.
+  std::size_t kept = 0;
+  for (std::size_t v = 0; v < map.n_vertices(1); v += 7) {
+    const double e0 = map.energy();
+    const double gain = reembed_disc(map, map.rings_around(1, int(v), 2));
+    ASSERT_FALSE(map.validate()) << "disc around vertex " << v;
+    EXPECT_GE(gain, 0.0);
+    EXPECT_NEAR(e0 - map.energy(), gain, 1e-9 * e0);
+    kept += gain > 0;
+  }
+  std::printf(
+      "blob %zu faces resumed at 150 vertices: %zu of %zu discs kept in refinement, "
+      "efficiency %.4f; 2-ring discs over one domain face %zu, over two %zu; %zu more kept\n",
+      map.n_faces(1), stats.discs_applied, stats.discs, map.measures().symmetric_efficiency,
+      over[1], over[2], kept);
 }
 
 // A forward density (the remeshers' curvature weight) weighs the forward
