@@ -182,6 +182,7 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
        .retry_below = 0.0,
        // After the coarse levels' global re-embeddings (RefineOptions::reembed_max_vertices).
        .symmetric_from_vertices = RefineOptions{}.reembed_max_vertices,
+       .symmetric_local_disc_every = kLocalDiscEvery,
        .symmetric_before_final =
            [&](InterSurfaceMap& map) {
              if (o.no_global_reembedding) return 0.0;

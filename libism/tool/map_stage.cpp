@@ -92,7 +92,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   SurfaceRefineOptions refine_options;
   refine_options.progress = progress;
   refine_options.max_final_sweeps = settings.final_sweeps;
-  refine_options.local_disc_every = stage.local_disc_every;
+  refine_options.local_disc_every = stage.symmetric_local_disc_every;
   // The cones are placed: their large charts are retried less and less.
   refine_options.large_chart_backoff = true;
   refine_options.before_final = stage.symmetric_before_final;
