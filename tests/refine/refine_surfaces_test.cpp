@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace ism {
 namespace {
@@ -89,6 +90,24 @@ void refine_to(SurfaceMap& surface_map, std::size_t vertices) {
   refine(surface_map, options);
 }
 
+/// A blob's map over the octahedron refined by SurfaceMap to 150 surface
+/// vertices, as a meta-mesh for InterSurfaceMap to resume (the remeshers'
+/// takeover).
+struct ResumedBlob {
+  ProgressiveMesh pm;
+  DomainGeometry domain;
+  std::optional<MetaMesh> meta;
+  std::array<std::size_t, 2> applied;
+};
+ResumedBlob resumed_blob() {
+  auto [pm, domain] = blob_over_octahedron(800);
+  SurfaceMap coarse(domain, pm);
+  refine_to(coarse, 150);
+  auto meta = meta_mesh(coarse);
+  const std::array<std::size_t, 2> applied{0, coarse.splits_applied()};
+  return {std::move(pm), std::move(domain), std::move(meta), applied};
+}
+
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
 // gim-remesh's --core symmetric does): the same map at the start (its
 // measures equal SurfaceMap's), then every step valid and each gain the
@@ -152,12 +171,8 @@ TEST(RefineSurfaces, ResumesASurfaceMapRefinedPartOfTheWay) {
 // the surface; with the back-off fewer of their optimisations run, the map
 // stays valid after every step with exact gains, and it ends as good.
 TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
-  const auto [pm, domain] = blob_over_octahedron(800);
-  SurfaceMap coarse(domain, pm);
-  refine_to(coarse, 150);
-  const auto meta = meta_mesh(coarse);
+  const auto [pm, domain, meta, applied] = resumed_blob();
   ASSERT_TRUE(meta);
-  const std::array<std::size_t, 2> applied{0, coarse.splits_applied()};
   struct Run {
     SurfaceRefineStats stats;
     std::size_t optimizations = 0, cone_moves = 0;
@@ -202,13 +217,9 @@ TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
 // with its gain the drop of the energy; a disc laid out and installed
 // unmoved changes nothing; discs spanning two faces exist and are kept.
 TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
-  const auto [pm, domain] = blob_over_octahedron(800);
-  SurfaceMap coarse(domain, pm);
-  refine_to(coarse, 150);
-  const auto meta = meta_mesh(coarse);
+  const auto [pm, domain, meta, applied] = resumed_blob();
   ASSERT_TRUE(meta);
-  InterSurfaceMap map(*meta, side_from_domain(domain, pm), side_from_pm(pm),
-                      {0, coarse.splits_applied()});
+  InterSurfaceMap map(*meta, side_from_domain(domain, pm), side_from_pm(pm), applied);
   SurfaceRefineOptions options;
   // (The remeshers: every 10, 3 rings; here few vertices keep gaining, and
   // 3 rings of a 400-vertex blob mostly span more than two domain faces.)
