@@ -164,18 +164,23 @@ class InterSurfaceMap {
   /// others); kept only if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
-  /// The faces of side 1 around some of its vertices laid out in one face
-  /// F of side 0, for the local re-embedding of a disc (paper §5.1;
+  /// The faces of side 1 around some of its vertices laid out in the chart
+  /// of one face of side 0, or of two across the edge they share (the
+  /// second unfolded), for the local re-embedding of a disc (paper §5.1;
   /// refine/disc_relaxation.hpp): the given vertices that are not pinned
-  /// may move, every other corner of their faces is fixed. Only where all
-  /// of it lies inside F (every corner located in F, no edge crossing an
-  /// edge of side 0, no vertex of side 0 inside), as at fine levels over a
-  /// coarse domain; nothing otherwise. As SurfaceMap::disc_layout, with
-  /// walk_face and walk_layout empty.
+  /// may move, every other corner of their faces is fixed. Only where every
+  /// corner lies in those faces, every edge crosses at most the shared edge
+  /// once (no kink), no vertex of side 0 lies inside, and each edge between
+  /// fixed corners crosses where the chart's straight segment does (as at
+  /// fine levels over a coarse domain, away from its vertices); nothing
+  /// otherwise. As SurfaceMap::disc_layout, with walk_face and walk_layout
+  /// empty.
   std::optional<DiscLayout> disc_layout(const std::vector<int>& vertices) const;
   /// Moves the free vertices of a layout from disc_layout (the map
-  /// unchanged since) to its positions in F, one transaction: kept if each
-  /// stays clear of F's edges (as a vertex move must), the faces stay valid
+  /// unchanged since) to its positions, one transaction: each located in
+  /// the face holding it, clear of that face's edges (as a vertex move
+  /// must), the edges with a free end redrawn straight in the chart (their
+  /// crossings with the shared edge replaced); kept if the faces stay valid
   /// and their energy drops. Returns the decrease (0: the map unchanged).
   double set_disc_layout(const DiscLayout& disc);
   /// v and the vertices within `rings` edges of it on `side`, nearest first.

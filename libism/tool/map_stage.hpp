@@ -95,9 +95,9 @@ struct MapStage {
   /// vertices (SurfaceMap refines it that far, with the options above).
   std::size_t symmetric_from_vertices = kSymmetricFromVertices;
   /// SurfaceRefineOptions::local_disc_every of the symmetric core (0:
-  /// none). After every gaining move: its discs must lie over one or two
-  /// faces of the domain, and so re-embedded bunny's equilateral map reaches
-  /// 0.7192 (every 10th: 0.7185; results-two-surfaces.md, stop 56).
+  /// none). After every gaining move by default: its discs must lie over
+  /// one or two faces of the domain, so fewer would be tried than the
+  /// default core's every 10th (results-two-surfaces.md, stop 56).
   int symmetric_local_disc_every = 1;
   /// SurfaceRefineOptions::before_final of the symmetric core's refinement
   /// (e.g. the flat torus's global re-embedding); empty: none.
