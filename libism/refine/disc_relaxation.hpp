@@ -23,8 +23,9 @@ double reembed_disc(SurfaceMap& map, const std::vector<int>& vertices,
                     const FlatDescentOptions& options = {200, 1e-6, 10, 8});
 
 /// The same for the symmetric core's side 1 over side 0, where the disc
-/// lies inside one face of side 0 (InterSurfaceMap::disc_layout; 0
-/// otherwise), installed through InterSurfaceMap::set_disc_layout.
+/// lies over one face of side 0 or two across their shared edge
+/// (InterSurfaceMap::disc_layout; 0 otherwise), installed through
+/// InterSurfaceMap::set_disc_layout.
 double reembed_disc(InterSurfaceMap& map, const std::vector<int>& vertices,
                     const FlatDescentOptions& options = {200, 1e-6, 10, 8});
 

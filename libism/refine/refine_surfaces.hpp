@@ -48,8 +48,9 @@ struct SurfaceRefineOptions {
   /// During local relaxation, a vertex of side 1 that keeps gaining has the
   /// disc of `local_disc_rings` rings around it re-embedded whole after
   /// every `local_disc_every` gaining moves (0: never), where the disc lies
-  /// inside one face of side 0 (reembed_disc, refine/disc_relaxation.hpp;
-  /// RefineOptions::local_disc_every's counterpart).
+  /// over one face of side 0 or two across their shared edge (reembed_disc,
+  /// refine/disc_relaxation.hpp; RefineOptions::local_disc_every's
+  /// counterpart).
   int local_disc_every = 0;
   int local_disc_rings = 3;
   /// After a hard split, one that raised the energy of its faces more than
