@@ -4,10 +4,10 @@
 // the cone, the old vertex v becomes free and is optimised in its new
 // one-ring. At coarse levels a step moves the cone far; later levels refine.
 #include "map/surface_map.hpp"
+#include "mesh/rings.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 namespace ism {
 
@@ -234,16 +234,7 @@ std::optional<double> SurfaceMap::move_cone(int v, int to,
 // ------------------------------------------------- relocation with relaxation
 
 std::vector<int> SurfaceMap::rings_around(int v, int rings) const {
-  std::vector<int> region{v};
-  std::unordered_set<int> seen{v};
-  for (std::size_t begin = 0, r = 0; r < std::size_t(rings); ++r) {
-    const std::size_t end = region.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (int u : neighbours(region[i]))
-        if (seen.insert(u).second) region.push_back(u);
-    begin = end;
-  }
-  return region;
+  return ism::rings_around(v, rings, [this](int u) { return neighbours(u); });
 }
 
 SurfaceMap::RegionState SurfaceMap::save_region(const std::vector<int>& vertices) const {

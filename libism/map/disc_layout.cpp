@@ -6,6 +6,7 @@
 // with the disc's edges redrawn straight in that chart.
 #include "map/inter_surface_map.hpp"
 #include "map/inter_surface_map_impl.hpp"
+#include "mesh/rings.hpp"
 
 #include <algorithm>
 #include <unordered_map>
@@ -14,16 +15,7 @@
 namespace ism {
 
 std::vector<int> InterSurfaceMap::rings_around(int side, int v, int rings) const {
-  std::vector<int> region{v};
-  std::unordered_set<int> seen{v};
-  for (std::size_t begin = 0, r = 0; r < std::size_t(rings); ++r) {
-    const std::size_t end = region.size();
-    for (std::size_t i = begin; i < end; ++i)
-      for (int u : neighbours(side, region[i]))
-        if (seen.insert(u).second) region.push_back(u);
-    begin = end;
-  }
-  return region;
+  return ism::rings_around(v, rings, [this, side](int u) { return neighbours(side, u); });
 }
 
 std::optional<InterSurfaceMap::DiscChart> InterSurfaceMap::disc_chart(
@@ -66,15 +58,9 @@ std::optional<InterSurfaceMap::DiscChart> InterSurfaceMap::disc_chart(
   const Vec2 pa = chart.layout[0][j], pb = chart.layout[0][(j + 1) % 3];
   const Triangle& g = T.faces[chart.face[1]];
   const int ia = g[0] == a ? 0 : g[1] == a ? 1 : 2, ib = g[0] == b ? 0 : g[1] == b ? 1 : 2;
-  const std::array<Vec2, 3> G = meta_face_layout(T.lengths[chart.face[1]]);
-  const Vec2 u = G[ib] - G[ia], d = pb - pa;
-  const double uu = u.squaredNorm();
-  if (!(uu > 0)) return std::nullopt;
-  const double cs = u.dot(d) / uu, sn = (u.x() * d.y() - u.y() * d.x()) / uu;
-  for (int q = 0; q < 3; ++q) {
-    const Vec2 r = G[q] - G[ia];
-    chart.layout[1][q] = pa + Vec2(cs * r.x() - sn * r.y(), sn * r.x() + cs * r.y());
-  }
+  const auto across = layout_across(meta_face_layout(T.lengths[chart.face[1]]), ia, ib, pa, pb);
+  if (!across) return std::nullopt;
+  chart.layout[1] = *across;
   chart.edge = crossed;
   const bool forward = T.edges[crossed][0] == a;
   chart.edge_from = forward ? pa : pb;

@@ -146,15 +146,12 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
       // corner by the law of cosines) moved rigidly: the rotation taking
       // G[ia] -> G[ib] to pa -> pb, then G[ia] to pa.
       const Layout3 G = meta_face_layout(T.lengths[next]);
-      const Vec2 u = G[ib] - G[ia], d = pb - pa;
-      const double uu = u.squaredNorm();
-      if (!(uu > 0) || std::abs(u.norm() - d.norm()) > 1e-9 * (u.norm() + d.norm())) return false;
-      const double cs = u.dot(d) / uu, sn = (u.x() * d.y() - u.y() * d.x()) / uu;
+      const double lu = (G[ib] - G[ia]).norm(), ld = (pb - pa).norm();
+      if (std::abs(lu - ld) > 1e-9 * (lu + ld)) return false;
+      const auto across = layout_across(G, ia, ib, pa, pb);
+      if (!across) return false;
       here.face = next;
-      for (int q = 0; q < 3; ++q) {
-        const Vec2 r = G[q] - G[ia];
-        here.corner[q] = pa + Vec2(cs * r.x() - sn * r.y(), sn * r.x() + cs * r.y());
-      }
+      here.corner = *across;
     }
     return true;
   };

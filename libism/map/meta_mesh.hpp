@@ -123,6 +123,12 @@ std::optional<std::vector<MetaPiece>> meta_pieces(const MetaMesh& meta);
 /// coordinates are given: corner 0 at the origin, corner 1 on +x,
 /// counter-clockwise.
 std::array<Vec2, 3> meta_face_layout(const FaceLengths& lengths);
+/// A face's layout G moved rigidly so that its corners ia and ib land on pa
+/// and pb (the face unfolded across that edge; |G[ib] − G[ia]| should equal
+/// |pb − pa|, the rotation is scaled by their ratio otherwise); nothing if
+/// G's edge has no length.
+std::optional<std::array<Vec2, 3>> layout_across(const std::array<Vec2, 3>& G, int ia, int ib,
+                                                 const Vec2& pa, const Vec2& pb);
 
 /// Stretch measures over the pieces, side[0] read as the domain; nothing if
 /// the meta-mesh does not validate. For a meta-mesh of a SurfaceMap they

@@ -237,4 +237,19 @@ MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pie
   return size;
 }
 
+std::optional<std::array<Vec2, 3>> layout_across(const std::array<Vec2, 3>& G, int ia, int ib,
+                                                 const Vec2& pa, const Vec2& pb) {
+  // The rotation (with scale |d| / |u|) taking u = G[ib] − G[ia] to d = pb − pa.
+  const Vec2 u = G[ib] - G[ia], d = pb - pa;
+  const double uu = u.squaredNorm();
+  if (!(uu > 0)) return std::nullopt;
+  const double cs = u.dot(d) / uu, sn = (u.x() * d.y() - u.y() * d.x()) / uu;
+  std::array<Vec2, 3> out;
+  for (int q = 0; q < 3; ++q) {
+    const Vec2 r = G[q] - G[ia];
+    out[q] = pa + Vec2(cs * r.x() - sn * r.y(), sn * r.x() + cs * r.y());
+  }
+  return out;
+}
+
 }  // namespace ism

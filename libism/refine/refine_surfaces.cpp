@@ -109,7 +109,8 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   for (const auto& [side, v] : seeds) enqueue(side, v);
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   const double threshold = options.local_relaxation_gain * map.energy() / vertices;
-  std::vector<int> gaining(map.meta().side[1].n_vertices(), 0);  // moves that gained, per vertex
+  std::vector<int> gaining;  // moves of side 1 that gained, per vertex (with discs only)
+  if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
   for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
     const auto [side, v] = queue.front();
     queue.pop_front();
