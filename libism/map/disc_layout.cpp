@@ -18,6 +18,20 @@ std::vector<int> InterSurfaceMap::rings_around(int side, int v, int rings) const
   return ism::rings_around(v, rings, [this, side](int u) { return neighbours(side, u); });
 }
 
+std::vector<int> InterSurfaceMap::disc_around(int v, int rings) const {
+  const MetaSide& S = meta_.side[1];
+  std::array<int, 2> faces{-1, -1};
+  auto over_two_faces = [&](int u) {
+    const int f = S.location[u].face;
+    if (f < 0) return false;
+    if (faces[0] < 0 || f == faces[0]) return faces[0] = f, true;
+    if (faces[1] < 0 || f == faces[1]) return faces[1] = f, true;
+    return false;
+  };
+  return ism::rings_around(
+      v, rings, [this](int u) { return neighbours(1, u); }, over_two_faces);
+}
+
 std::optional<InterSurfaceMap::DiscChart> InterSurfaceMap::disc_chart(
     const std::vector<int>& faces) const {
   const MetaSide& S = meta_.side[1];

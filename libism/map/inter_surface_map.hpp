@@ -185,6 +185,10 @@ class InterSurfaceMap {
   double set_disc_layout(const DiscLayout& disc);
   /// v and the vertices within `rings` edges of it on `side`, nearest first.
   std::vector<int> rings_around(int side, int v, int rings) const;
+  /// rings_around(1, v, rings), or none as soon as those vertices lie over
+  /// more than two faces of side 0 or one lies on a vertex of side 0 (they
+  /// are corners of the disc: disc_layout would have no layout).
+  std::vector<int> disc_around(int v, int rings) const;
   /// Whether the last optimize_vertex that ran laid its vertex out in a
   /// large chart (one whose ring holds much of the other side, as a cone of
   /// a coarse domain's does: its evaluations cost thousands of pieces each).

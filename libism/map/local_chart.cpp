@@ -276,123 +276,128 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     return true;
   }
 
-  // The one-ring unfolding of paper §5.1: each neighbour at the length of
-  // its edge's image on t, the angles between them from the law of cosines
-  // on the images' lengths, scaled to sum to 2π. Where the ring's image is
-  // flat and its edges straight, this is the isometric development.
   std::vector<int> faces_a, faces_b;
-  auto image_length = [&](int e, double& length, bool& bent) {
-    const auto& list = S.crossings[e];
-    const MetaNode a = vertex_node(meta_, s, S.edges[e][0]),
-                   b = vertex_node(meta_, s, S.edges[e][1]);
-    Place previous = a.place[t];
-    length = 0;
-    for (std::size_t k = 0; k <= list.size(); ++k) {
-      Place next = b.place[t];
-      if (k < list.size()) {
-        const auto node = break_node(meta_, s, e, int(k));
-        if (!node) return false;
-        next = node->place[t];
-        bent |= list[k].is_kink();
-      }
-      place_faces(meta_, index_, t, previous, faces_a);
-      place_faces(meta_, index_, t, next, faces_b);
-      bool found = false;
-      for (int f : faces_a)
-        if (!found && std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end()) {
-          const auto p = place_in_face(meta_, t, f, previous), q = place_in_face(meta_, t, f, next);
-          if (!p || !q) return false;
-          length += (*q - *p).norm();
-          found = true;
-        }
-      if (!found) return false;
-      previous = next;
-    }
-    return length > 0;
-  };
-  bool bent = false;
-  std::vector<double> radius(m), side(m);
-  for (std::size_t i = 0; i < m; ++i)
-    if (!image_length(chart.spoke[i], radius[i], bent) ||
-        !image_length(chart.boundary[i], side[i], bent))
-      return chart_fail(1);
-  // Directions: each edge as it leaves v (in the layout of v's face, or
-  // around the vertex of t that v sits on, its fan unwrapped); consecutive
-  // angles scaled to sum to 2π.
-  auto first_place = [&](std::size_t i) {
-    const int e = chart.spoke[i];
-    const auto& list = S.crossings[e];
-    const bool forward = S.edges[e][0] == v;
-    if (list.empty()) return std::optional<Place>(vertex_node(meta_, s, chart.ring[i]).place[t]);
-    const auto node = break_node(meta_, s, e, forward ? 0 : int(list.size()) - 1);
-    return node ? std::optional<Place>(node->place[t]) : std::nullopt;
-  };
-  std::vector<double> direction(m);
-  double cone = 2 * M_PI;
-  if (vloc.face >= 0) {
-    const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
-    chart.centre = from_barycentric(vloc.bary, L);
-    for (std::size_t i = 0; i < m; ++i) {
-      const auto first = first_place(i);
-      if (!first) return chart_fail(3);
-      const auto q = place_in_face(meta_, t, vloc.face, *first);
-      if (!q) return chart_fail(4);
-      direction[i] = std::atan2((*q - chart.centre).y(), (*q - chart.centre).x());
-    }
-  } else {
-    const int x = vloc.vertex;
-    const auto& around = IT.vertex_faces[x];
-    auto corner_of = [&](int f) {
-      const Triangle& tri = T.faces[f];
-      return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
-    };
-    std::vector<int> fan{around.front()};
-    while (fan.size() < around.size()) {
-      const int f = fan.back();
-      const int last = T.faces[f][(corner_of(f) + 2) % 3];
-      int next = -1;
-      for (int g : around)
-        if (T.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
-      if (next < 0 || next == fan.front()) return chart_fail(5);
-      fan.push_back(next);
-    }
-    std::vector<double> start(fan.size() + 1, 0.0);
-    for (std::size_t j = 0; j < fan.size(); ++j) {
-      const int c = corner_of(fan[j]);
-      const Layout3 L = meta_face_layout(T.lengths[fan[j]]);
-      const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
-      start[j + 1] = start[j] + std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-    }
-    cone = start.back();
-    chart.centre = Vec2::Zero();
-    for (std::size_t i = 0; i < m; ++i) {
-      const auto first = first_place(i);
-      if (!first) return chart_fail(6);
-      // The fan face the edge leaves x through, and its angle there.
-      bool found = false;
-      for (std::size_t j = 0; j < fan.size() && !found; ++j) {
-        const int f = fan[j], c = corner_of(f);
-        const auto q = place_in_face(meta_, t, f, *first);
-        if (!q) continue;
-        if (first->kind == Place::vertex && first->index != T.faces[f][(c + 1) % 3]) continue;
-        if (first->kind == Place::edge && first->index != T.face_edges[f][(c + 1) % 3]) continue;
-        const Layout3 L = meta_face_layout(T.lengths[f]);
-        const Vec2 a = L[(c + 1) % 3] - L[c], d = *q - L[c];
-        direction[i] = start[j] + std::atan2(a.x() * d.y() - a.y() * d.x(), a.dot(d));
-        found = true;
-      }
-      if (!found) return chart_fail(7);
-    }
-  }
+  bool bent = false, rescale = true;
   // Where v lies inside a face of t and no vertex of t lies inside the
   // ring's faces, the region is flat: each neighbour where its spoke's
   // image, unfolded face by face across the edges of t it crosses, ends.
   // This is the exact development; the law of cosines below equals it only
   // while the ring's edges are straight across the edges of t they cross.
-  bool rescale = true;
+  if (vloc.face >= 0)
+    chart.centre = from_barycentric(vloc.bary, meta_face_layout(T.lengths[vloc.face]));
   if (vloc.face >= 0 && developed_ring(s, v, chart)) {
     rescale = false;
+    for (std::size_t i = 0; i < m; ++i)
+      for (const int e : {chart.spoke[i], chart.boundary[i]})
+        for (const MetaCrossing& c : S.crossings[e]) bent |= c.is_kink();
   } else {
+    // The one-ring unfolding of paper §5.1: each neighbour at the length of
+    // its edge's image on t, the angles between them from the law of cosines
+    // on the images' lengths, scaled to sum to 2π. Where the ring's image is
+    // flat and its edges straight, this is the isometric development.
+    auto image_length = [&](int e, double& length, bool& bent) {
+      const auto& list = S.crossings[e];
+      const MetaNode a = vertex_node(meta_, s, S.edges[e][0]),
+                     b = vertex_node(meta_, s, S.edges[e][1]);
+      Place previous = a.place[t];
+      length = 0;
+      for (std::size_t k = 0; k <= list.size(); ++k) {
+        Place next = b.place[t];
+        if (k < list.size()) {
+          const auto node = break_node(meta_, s, e, int(k));
+          if (!node) return false;
+          next = node->place[t];
+          bent |= list[k].is_kink();
+        }
+        place_faces(meta_, index_, t, previous, faces_a);
+        place_faces(meta_, index_, t, next, faces_b);
+        bool found = false;
+        for (int f : faces_a)
+          if (!found && std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end()) {
+            const auto p = place_in_face(meta_, t, f, previous),
+                       q = place_in_face(meta_, t, f, next);
+            if (!p || !q) return false;
+            length += (*q - *p).norm();
+            found = true;
+          }
+        if (!found) return false;
+        previous = next;
+      }
+      return length > 0;
+    };
+    std::vector<double> radius(m), side(m);
+    for (std::size_t i = 0; i < m; ++i)
+      if (!image_length(chart.spoke[i], radius[i], bent) ||
+          !image_length(chart.boundary[i], side[i], bent))
+        return chart_fail(1);
+    // Directions: each edge as it leaves v (in the layout of v's face, or
+    // around the vertex of t that v sits on, its fan unwrapped); consecutive
+    // angles scaled to sum to 2π.
+    auto first_place = [&](std::size_t i) {
+      const int e = chart.spoke[i];
+      const auto& list = S.crossings[e];
+      const bool forward = S.edges[e][0] == v;
+      if (list.empty()) return std::optional<Place>(vertex_node(meta_, s, chart.ring[i]).place[t]);
+      const auto node = break_node(meta_, s, e, forward ? 0 : int(list.size()) - 1);
+      return node ? std::optional<Place>(node->place[t]) : std::nullopt;
+    };
+    std::vector<double> direction(m);
+    double cone = 2 * M_PI;
+    if (vloc.face >= 0) {
+      const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
+      chart.centre = from_barycentric(vloc.bary, L);
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto first = first_place(i);
+        if (!first) return chart_fail(3);
+        const auto q = place_in_face(meta_, t, vloc.face, *first);
+        if (!q) return chart_fail(4);
+        direction[i] = std::atan2((*q - chart.centre).y(), (*q - chart.centre).x());
+      }
+    } else {
+      const int x = vloc.vertex;
+      const auto& around = IT.vertex_faces[x];
+      auto corner_of = [&](int f) {
+        const Triangle& tri = T.faces[f];
+        return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
+      };
+      std::vector<int> fan{around.front()};
+      while (fan.size() < around.size()) {
+        const int f = fan.back();
+        const int last = T.faces[f][(corner_of(f) + 2) % 3];
+        int next = -1;
+        for (int g : around)
+          if (T.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
+        if (next < 0 || next == fan.front()) return chart_fail(5);
+        fan.push_back(next);
+      }
+      std::vector<double> start(fan.size() + 1, 0.0);
+      for (std::size_t j = 0; j < fan.size(); ++j) {
+        const int c = corner_of(fan[j]);
+        const Layout3 L = meta_face_layout(T.lengths[fan[j]]);
+        const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
+        start[j + 1] = start[j] + std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+      }
+      cone = start.back();
+      chart.centre = Vec2::Zero();
+      for (std::size_t i = 0; i < m; ++i) {
+        const auto first = first_place(i);
+        if (!first) return chart_fail(6);
+        // The fan face the edge leaves x through, and its angle there.
+        bool found = false;
+        for (std::size_t j = 0; j < fan.size() && !found; ++j) {
+          const int f = fan[j], c = corner_of(f);
+          const auto q = place_in_face(meta_, t, f, *first);
+          if (!q) continue;
+          if (first->kind == Place::vertex && first->index != T.faces[f][(c + 1) % 3]) continue;
+          if (first->kind == Place::edge && first->index != T.face_edges[f][(c + 1) % 3]) continue;
+          const Layout3 L = meta_face_layout(T.lengths[f]);
+          const Vec2 a = L[(c + 1) % 3] - L[c], d = *q - L[c];
+          direction[i] = start[j] + std::atan2(a.x() * d.y() - a.y() * d.x(), a.dot(d));
+          found = true;
+        }
+        if (!found) return chart_fail(7);
+      }
+    }
     // Angles between consecutive edges: by the law of cosines on the lengths
     // of their images (paper §5.1), or, where those lengths break the
     // triangle inequality, as the edges leave v; scaled to sum to 2π, none

@@ -8,19 +8,30 @@
 namespace ism {
 
 /// v and the vertices within `rings` edges of it, nearest first (each ring
-/// in the order `neighbours(u)` lists them, u in the order found).
-template <class Neighbours>
-std::vector<int> rings_around(int v, int rings, Neighbours&& neighbours) {
+/// in the order `neighbours(u)` lists them, u in the order found); none as
+/// soon as `accept(u)` is false for one of them.
+template <class Neighbours, class Accept>
+std::vector<int> rings_around(int v, int rings, Neighbours&& neighbours, Accept&& accept) {
+  if (!accept(v)) return {};
   std::vector<int> region{v};
   std::unordered_set<int> seen{v};
   for (std::size_t begin = 0, r = 0; r < std::size_t(rings); ++r) {
     const std::size_t end = region.size();
     for (std::size_t i = begin; i < end; ++i)
       for (int u : neighbours(region[i]))
-        if (seen.insert(u).second) region.push_back(u);
+        if (seen.insert(u).second) {
+          if (!accept(u)) return {};
+          region.push_back(u);
+        }
     begin = end;
   }
   return region;
+}
+
+/// Every vertex accepted.
+template <class Neighbours>
+std::vector<int> rings_around(int v, int rings, Neighbours&& neighbours) {
+  return rings_around(v, rings, neighbours, [](int) { return true; });
 }
 
 }  // namespace ism

@@ -2,6 +2,7 @@
 
 #include "mesh/mean_value_weights.hpp"
 
+#include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
 
@@ -15,6 +16,9 @@
 namespace ism {
 
 namespace {
+
+// Up to this many unknowns (a disc) the system is solved dense.
+constexpr int kDense = 300;
 
 // The positions where every free vertex is the mean-value combination of
 // its neighbours (weights from the surface's triangles), the others fixed.
@@ -44,13 +48,21 @@ std::optional<std::vector<Vec2>> mean_value_positions(const DiscLayout& disc,
           rhs.row(row) += w * disc.position[j].transpose();
       }
     }
-  Eigen::SparseMatrix<double> a(m, m);
-  a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-  solver.compute(a);
-  if (solver.info() != Eigen::Success) return std::nullopt;
-  const Eigen::MatrixXd x = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
+  Eigen::MatrixXd x;
+  if (m <= kDense) {  // a disc: factored dense
+    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(m, m);
+    for (const auto& t : triplets) a(t.row(), t.col()) += t.value();
+    x = a.partialPivLu().solve(rhs);
+  } else {
+    Eigen::SparseMatrix<double> a(m, m);
+    a.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+    solver.compute(a);
+    if (solver.info() != Eigen::Success) return std::nullopt;
+    x = solver.solve(rhs);
+    if (solver.info() != Eigen::Success) return std::nullopt;
+  }
+  if (!x.allFinite()) return std::nullopt;
   std::vector<Vec2> out = disc.position;
   for (std::size_t u = 0; u < out.size(); ++u)
     if (unknown[u] >= 0) out[u] = x.row(unknown[u]).transpose();

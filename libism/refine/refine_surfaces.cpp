@@ -28,13 +28,20 @@ void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, Surf
 /// The back-off of vertices whose optimisation in a large chart found no
 /// lower energy (SurfaceRefineOptions::large_chart_backoff): after k such
 /// failures in a row, the next 2^k - 1 optimisations of the vertex are
-/// skipped (k at most kMaxFailures).
+/// skipped (k at most kMaxFailures); once kGiveUpAfter large charts of a
+/// side have failed and none has gained, that side's vertices whose last
+/// chart was large are skipped for good.
 class Backoff {
  public:
   static constexpr unsigned kMaxFailures = 6;
+  static constexpr std::size_t kGiveUpAfter = 8;
   /// Whether this optimisation of v is skipped (and counts it).
   bool skip(int side, int v) {
     grow(side, v);
+    if (large_[side][v] && gains_[side] == 0 && fails_[side] >= kGiveUpAfter) {
+      ++skipped_;
+      return true;
+    }
     if (left_[side][v] == 0) return false;
     --left_[side][v];
     ++skipped_;
@@ -43,6 +50,8 @@ class Backoff {
   /// After an optimisation of v that ran: its chart was large, its gain.
   void record(int side, int v, bool large, double gain) {
     grow(side, v);
+    large_[side][v] = large;
+    if (large) ++(gain > 0 ? gains_[side] : fails_[side]);
     if (!large || gain > 0) {
       failures_[side][v] = 0;
       return;
@@ -57,9 +66,12 @@ class Backoff {
     if (std::size_t(v) >= failures_[side].size()) {
       failures_[side].resize(std::size_t(v) + 1, 0);
       left_[side].resize(std::size_t(v) + 1, 0);
+      large_[side].resize(std::size_t(v) + 1, 0);
     }
   }
   std::array<std::vector<unsigned>, 2> failures_, left_;
+  std::array<std::vector<char>, 2> large_;        // v's last chart was large
+  std::array<std::size_t, 2> fails_{}, gains_{};  // large charts of a side: failed, gained
   std::size_t skipped_ = 0;
 };
 
@@ -121,8 +133,9 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     for (int w : map.neighbours(side, v)) enqueue(side, w);
     if (side != 1 || options.local_disc_every <= 0 || ++gaining[v] % options.local_disc_every != 0)
       continue;
-    const std::vector<int> disc = map.rings_around(1, v, options.local_disc_rings);
-    const double d = reembed_disc(map, disc);
+    // (No layout, found while the rings are gathered: mostly near a cone.)
+    const std::vector<int> disc = map.disc_around(v, options.local_disc_rings);
+    const double d = disc.empty() ? 0.0 : reembed_disc(map, disc);
     ++stats.discs;
     if (!(d > 0)) continue;
     ++stats.discs_applied;

@@ -66,7 +66,9 @@ struct SurfaceRefineOptions {
   /// last_chart_large(): a cone of a coarse domain, whose chart holds much
   /// of the surface) found no lower energy are retried less and less often:
   /// after k such failures in a row, the next 2^k - 1 of its optimisations
-  /// are skipped (k at most 6); a kept move resets it. Such a chart costs
+  /// are skipped (k at most 6); a kept move resets it. Once 8 large charts
+  /// of a side have failed and none has gained, the vertices of that side
+  /// whose last chart was large are not optimised again. Such a chart costs
   /// as much as a thousand small ones, and where SurfaceMap has placed the
   /// cones (a resumed map, as the remeshers' symmetric core is) their
   /// continuous moves do not get below the map's energy. Off by default:

@@ -238,11 +238,20 @@ TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
   EXPECT_GT(map.measures().symmetric_efficiency, 0.9);
 
   // Every vertex's 2-ring disc, where one can be laid out: over how many
-  // faces of side 0; installed where it is, nothing changes.
-  std::size_t over[3] = {0, 0, 0};
+  // faces of side 0; installed where it is, nothing changes. disc_around
+  // gives the same vertices, or none only where there is no layout.
+  std::size_t over[3] = {0, 0, 0}, refused_early = 0;
   const double before = map.energy();
   for (std::size_t v = 0; v < map.n_vertices(1); ++v) {
-    const auto disc = map.disc_layout(map.rings_around(1, int(v), 2));
+    const std::vector<int> rings = map.rings_around(1, int(v), 2);
+    const auto disc = map.disc_layout(rings);
+    const std::vector<int> early = map.disc_around(int(v), 2);
+    if (early.empty()) {
+      ++refused_early;
+      EXPECT_FALSE(disc) << "vertex " << v;
+    } else {
+      EXPECT_EQ(early, rings);
+    }
     if (!disc) continue;
     std::vector<int> faces;
     for (int u : disc->vertex) faces.push_back(map.meta().side[1].location[u].face);
@@ -253,6 +262,7 @@ TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
   EXPECT_EQ(map.energy(), before);
   EXPECT_GT(over[1], 0u);
   EXPECT_GT(over[2], 0u);
+  EXPECT_GT(refused_early, 0u);
   // And re-embedded whole, each a valid map with its energy lower by the gain.
   std::size_t kept = 0;
   for (std::size_t v = 0; v < map.n_vertices(1); v += 7) {
@@ -265,9 +275,10 @@ TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
   }
   std::printf(
       "blob %zu faces resumed at 150 vertices: %zu of %zu discs kept in refinement, "
-      "efficiency %.4f; 2-ring discs over one domain face %zu, over two %zu; %zu more kept\n",
+      "efficiency %.4f; 2-ring discs over one domain face %zu, over two %zu, refused while "
+      "gathered %zu; %zu more kept\n",
       map.n_faces(1), stats.discs_applied, stats.discs, map.measures().symmetric_efficiency,
-      over[1], over[2], kept);
+      over[1], over[2], refused_early, kept);
 }
 
 // A forward density (the remeshers' curvature weight) weighs the forward
