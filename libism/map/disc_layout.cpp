@@ -14,6 +14,19 @@
 
 namespace ism {
 
+namespace {
+
+// Adds face f of side 0 to the at most two faces a disc lies over; false
+// (faces unchanged) where it would be a third, or f < 0 (on a vertex).
+bool within_two(std::array<int, 2>& faces, int f) {
+  if (f < 0) return false;
+  if (faces[0] < 0 || f == faces[0]) return faces[0] = f, true;
+  if (faces[1] < 0 || f == faces[1]) return faces[1] = f, true;
+  return false;
+}
+
+}  // namespace
+
 std::vector<int> InterSurfaceMap::rings_around(int side, int v, int rings) const {
   return ism::rings_around(v, rings, [this, side](int u) { return neighbours(side, u); });
 }
@@ -21,15 +34,9 @@ std::vector<int> InterSurfaceMap::rings_around(int side, int v, int rings) const
 std::vector<int> InterSurfaceMap::disc_around(int v, int rings) const {
   const MetaSide& S = meta_.side[1];
   std::array<int, 2> faces{-1, -1};
-  auto over_two_faces = [&](int u) {
-    const int f = S.location[u].face;
-    if (f < 0) return false;
-    if (faces[0] < 0 || f == faces[0]) return faces[0] = f, true;
-    if (faces[1] < 0 || f == faces[1]) return faces[1] = f, true;
-    return false;
-  };
   return ism::rings_around(
-      v, rings, [this](int u) { return neighbours(1, u); }, over_two_faces);
+      v, rings, [this](int u) { return neighbours(1, u); },
+      [&](int u) { return within_two(faces, S.location[u].face); });
 }
 
 std::optional<InterSurfaceMap::DiscChart> InterSurfaceMap::disc_chart(
@@ -41,13 +48,7 @@ std::optional<InterSurfaceMap::DiscChart> InterSurfaceMap::disc_chart(
   for (int f : faces) {
     if (!index_[1].residents[f].empty()) return std::nullopt;
     for (int k = 0; k < 3; ++k) {
-      const MetaLocation& loc = S.location[S.faces[f][k]];
-      if (loc.face < 0) return std::nullopt;
-      if (chart.face[0] < 0) chart.face[0] = loc.face;
-      if (loc.face != chart.face[0]) {
-        if (chart.face[1] >= 0 && loc.face != chart.face[1]) return std::nullopt;
-        chart.face[1] = loc.face;
-      }
+      if (!within_two(chart.face, S.location[S.faces[f][k]].face)) return std::nullopt;
       const auto& list = S.crossings[S.face_edges[f][k]];
       if (list.size() > 1 || (list.size() == 1 && list[0].is_kink())) return std::nullopt;
       if (list.size() == 1) {

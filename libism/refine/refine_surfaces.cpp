@@ -30,7 +30,7 @@ void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, Surf
 /// failures in a row, the next 2^k - 1 optimisations of the vertex are
 /// skipped (k at most kMaxFailures); once kGiveUpAfter large charts of a
 /// side have failed and none has gained, that side's vertices whose last
-/// chart was large are skipped for good.
+/// chart was large (then: failed) are skipped for good.
 class Backoff {
  public:
   static constexpr unsigned kMaxFailures = 6;
@@ -38,7 +38,7 @@ class Backoff {
   /// Whether this optimisation of v is skipped (and counts it).
   bool skip(int side, int v) {
     grow(side, v);
-    if (large_[side][v] && gains_[side] == 0 && fails_[side] >= kGiveUpAfter) {
+    if (failures_[side][v] > 0 && gains_[side] == 0 && fails_[side] >= kGiveUpAfter) {
       ++skipped_;
       return true;
     }
@@ -50,7 +50,6 @@ class Backoff {
   /// After an optimisation of v that ran: its chart was large, its gain.
   void record(int side, int v, bool large, double gain) {
     grow(side, v);
-    large_[side][v] = large;
     if (large) ++(gain > 0 ? gains_[side] : fails_[side]);
     if (!large || gain > 0) {
       failures_[side][v] = 0;
@@ -66,11 +65,9 @@ class Backoff {
     if (std::size_t(v) >= failures_[side].size()) {
       failures_[side].resize(std::size_t(v) + 1, 0);
       left_[side].resize(std::size_t(v) + 1, 0);
-      large_[side].resize(std::size_t(v) + 1, 0);
     }
   }
   std::array<std::vector<unsigned>, 2> failures_, left_;
-  std::array<std::vector<char>, 2> large_;        // v's last chart was large
   std::array<std::size_t, 2> fails_{}, gains_{};  // large charts of a side: failed, gained
   std::size_t skipped_ = 0;
 };
