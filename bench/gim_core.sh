@@ -3,8 +3,11 @@
 # (SurfaceMap) and --core symmetric (InterSurfaceMap, the octahedron as a side
 # that never refines). Per model and metric: wall and user seconds, peak
 # memory, the image's efficiency (square and octahedron domains), flipped
-# triangles and PSNR, the map's symmetric and one-way efficiencies; the
-# paper's Table 1 beside the equilateral rows. Prints a Markdown table.
+# triangles and PSNR, the map's symmetric and one-way efficiencies, and the
+# seconds of the chosen map's refinement (from the symmetric core's takeover
+# at 1000 vertices, or from the chosen coarse candidate on the default core:
+# report key map.seconds_refine); the paper's Table 1 beside the
+# equilateral rows. Prints a Markdown table.
 #   bench/gim_core.sh > table.md
 #   MODELS="bunny_small" METRICS=equilateral SIZE=129 bench/gim_core.sh
 #   BEFORE=/path/to/older/gim-remesh bench/gim_core.sh   # also its two
@@ -18,8 +21,8 @@ echo "gim-remesh, default core against --core symmetric: $(nproc) cores, commit 
 echo "Image efficiency: square / octahedron domain; map: symmetric and domain -> surface efficiency."
 echo "Paper (Table 1, equilateral octahedron): bunny 0.717 / 79.9 dB, gargoyle 0.679 / 79.3 dB (octahedron efficiency / PSNR)."
 echo
-echo "| model | metric | core | wall s | user s | peak MB | image eff. square | octahedron | flips | PSNR dB | map symmetric | map → |"
-echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+echo "| model | metric | core | wall s | user s | peak MB | refine s | image eff. square | octahedron | flips | PSNR dB | map symmetric | map → |"
+echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for m in $models; do
   for metric in $metrics; do
     for core in ${BEFORE:+surface-map-before} surface-map ${BEFORE:+symmetric-before} symmetric; do
@@ -38,11 +41,12 @@ wall, user, kb = (lines[-1].split() + ["-", "-", "0"])[:3]
 try:
     r = json.load(open(path))
     i, m = r["image"], r["map"]
-    cells = [f"{i['efficiency_square']:.4f}", f"{i['efficiency_octahedron']:.4f}",
+    refine = f"{m['seconds_refine']:.1f}" if "seconds_refine" in m else "-"
+    cells = [refine, f"{i['efficiency_square']:.4f}", f"{i['efficiency_octahedron']:.4f}",
              str(i["flipped_triangles"]), f"{r['distance']['psnr_db']:.2f}",
              f"{m['symmetric_efficiency']:.4f}", f"{m['efficiency_domain_to_surface']:.4f}"]
 except (OSError, ValueError, KeyError):
-    cells = ["failed"] + ["-"] * 5
+    cells = ["-", "failed"] + ["-"] * 5
 mb = f"{int(kb) / 1024:.0f}" if kb.isdigit() and int(kb) > 0 else "-"
 print("| " + " | ".join([model, metric, core, wall, user, mb] + cells) + " |")
 PY

@@ -88,6 +88,14 @@ struct InterSurfaceOptions {
   double anisotropy_threshold = 10.0;
 };
 
+/// The chart the last vertex optimisation laid its one-ring out in
+/// (InterSurfaceMap::last_chart): none (the ring could not be charted, or
+/// the vertex is pinned), inside one face of the other side, an isometric
+/// development over several, a general chart, or a large one (any kind
+/// whose ring holds much of the other side, as a cone of a coarse domain's
+/// does: its evaluations cost thousands of pieces each).
+enum class ChartKind { none, fast, developed, general, large };
+
 /// What the local operations did (for reports and tests).
 struct MapOperationStats {
   std::size_t optimizations = 0;  // optimize_vertex calls that ran
@@ -189,10 +197,8 @@ class InterSurfaceMap {
   /// more than two faces of side 0 or one lies on a vertex of side 0 (they
   /// are corners of the disc: disc_layout would have no layout).
   std::vector<int> disc_around(int v, int rings) const;
-  /// Whether the last optimize_vertex that ran laid its vertex out in a
-  /// large chart (one whose ring holds much of the other side, as a cone of
-  /// a coarse domain's does: its evaluations cost thousands of pieces each).
-  bool last_chart_large() const { return last_chart_large_; }
+  /// The chart the last optimize_vertex laid its vertex out in.
+  ChartKind last_chart() const { return last_chart_; }
 
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
@@ -374,7 +380,7 @@ class InterSurfaceMap {
   mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
   std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
-  bool last_chart_large_ = false;
+  ChartKind last_chart_ = ChartKind::none;
 };
 
 }  // namespace ism

@@ -1715,14 +1715,17 @@ bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
 }
 
 double InterSurfaceMap::optimize_vertex(int s, int v) {
-  last_chart_large_ = false;
+  last_chart_ = ChartKind::none;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
   // Per-thread scratch: the chart and layout keep their lists' storage
   // from vertex to vertex (nothing here optimises a vertex re-entrantly).
   thread_local Chart chart;
   thread_local Layout layout;
   if (!build_chart(s, v, chart)) return 0.0;
-  last_chart_large_ = chart.large();
+  last_chart_ = chart.large()                    ? ChartKind::large
+                : chart.kind == Chart::fast      ? ChartKind::fast
+                : chart.kind == Chart::developed ? ChartKind::developed
+                                                 : ChartKind::general;
   ++stats_.optimizations;
   ++(chart.kind == Chart::fast        ? stats_.fast_path
      : chart.kind == Chart::developed ? stats_.developed

@@ -693,9 +693,11 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
       if (grad.allFinite()) break;
     }
     if (!grad.allFinite() || grad.norm() == 0) break;
+    const Vec2 start = p;
     search(-grad);
     search(Vec2(-grad.y(), grad.x()));
-    if (!(e < give_up_above)) break;
+    // (From the same point a second round would repeat the first.)
+    if (!(e < give_up_above) || p == start) break;
   }
   return e;
 }

@@ -115,7 +115,8 @@ enum class LineSearch { golden, parabolic };
 /// wider steps where those are not finite); p moves to the best point found.
 /// Returns the energy there. `energy` may return HUGE_VAL (not a valid place).
 /// A round whose best is not below `give_up_above` is the last (for callers
-/// that keep a result only below a bound).
+/// that keep a result only below a bound), and so is one that did not move
+/// p (`energy` must be a function of p alone: the next would repeat it).
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy,
                           LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL);

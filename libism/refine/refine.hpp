@@ -80,6 +80,7 @@ struct RefineStats {
   std::size_t single_face_rings = 0;  // optimisations whose one-ring lay in one M¹ face
   double energy_before_final = 0, energy = 0;
   std::size_t reembeddings = 0, reembeddings_applied = 0;  // global flat-torus re-embeddings
+  double seconds = 0;                                      // wall seconds of the call
 };
 
 /// Refines `map` to the full resolution of its progressive mesh. Throws

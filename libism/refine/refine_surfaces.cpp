@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <deque>
 #include <stdexcept>
@@ -13,6 +14,12 @@
 namespace ism {
 
 namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 /// After a split or a kept move: validation when asked, then the hook.
 void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceStep step) {
@@ -73,28 +80,33 @@ class Backoff {
 };
 
 /// Optimises v (unless the back-off, when given, skips it); the gain (the
-/// step reported when kept).
+/// step reported when kept). Its time goes to `stats` by chart.
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
-                Backoff* backoff = nullptr) {
+                Backoff* backoff, SurfaceRefineStats& stats) {
   if (backoff && backoff->skip(side, v)) return 0.0;
+  const Clock::time_point start = Clock::now();
   const double g = map.optimize_vertex(side, v);
-  if (backoff) backoff->record(side, v, map.last_chart_large(), g);
+  const ChartKind chart = map.last_chart();
+  stats.seconds_by_chart[std::size_t(chart)] += seconds_since(start);
+  if (backoff) backoff->record(side, v, chart == ChartKind::large, g);
   if (g > 0) after(map, options, {SurfaceStep::optimise, side, v, g});
   return g;
 }
 
-double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff) {
+double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff,
+             SurfaceRefineStats& stats) {
   double gain = 0;
   for (int side = 0; side < 2; ++side)
     for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
-      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v), backoff);
+      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v), backoff, stats);
   return gain;
 }
 
 }  // namespace
 
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
-  return sweep(map, options, nullptr);
+  SurfaceRefineStats unused;
+  return sweep(map, options, nullptr, unused);
 }
 
 namespace {
@@ -105,7 +117,8 @@ namespace {
 /// optimisations.
 LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                 const std::vector<std::pair<int, int>>& seeds,
-                                std::size_t max_moves, Backoff* backoff) {
+                                std::size_t max_moves, Backoff* backoff,
+                                SurfaceRefineStats& timing) {
   LocalRelaxationStats stats;
   std::deque<std::pair<int, int>> queue;
   std::array<std::vector<char>, 2> queued;
@@ -124,15 +137,17 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
-    const double g = optimise(map, options, side, v, backoff);
+    const double g = optimise(map, options, side, v, backoff, timing);
     stats.gain += g;
     if (!(g > threshold)) continue;
     for (int w : map.neighbours(side, v)) enqueue(side, w);
     if (side != 1 || options.local_disc_every <= 0 || ++gaining[v] % options.local_disc_every != 0)
       continue;
     // (No layout, found while the rings are gathered: mostly near a cone.)
+    const Clock::time_point start = Clock::now();
     const std::vector<int> disc = map.disc_around(v, options.local_disc_rings);
     const double d = disc.empty() ? 0.0 : reembed_disc(map, disc);
+    timing.seconds_discs += seconds_since(start);
     ++stats.discs;
     if (!(d > 0)) continue;
     ++stats.discs_applied;
@@ -144,7 +159,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
 }
 
 LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
-                                      Backoff* backoff) {
+                                      Backoff* backoff, SurfaceRefineStats& timing) {
   if (!(options.local_relaxation_budget > 0)) return {};
   std::vector<std::pair<int, int>> all;
   for (int side = 0; side < 2; ++side)
@@ -152,23 +167,26 @@ LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineO
       all.push_back({side, int(v)});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
-                    backoff);
+                    backoff, timing);
 }
 
 }  // namespace
 
 LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
                                                const SurfaceRefineOptions& options) {
-  return local_relaxation(map, options, nullptr);
+  SurfaceRefineStats unused;
+  return local_relaxation(map, options, nullptr, unused);
 }
 
 LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                          const std::vector<std::pair<int, int>>& seeds,
                                          std::size_t max_moves) {
-  return relax_from(map, options, seeds, max_moves, nullptr);
+  SurfaceRefineStats unused;
+  return relax_from(map, options, seeds, max_moves, nullptr, unused);
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
+  const Clock::time_point start = Clock::now();
   SurfaceRefineStats stats;
   auto add = [&](const LocalRelaxationStats& local) {
     stats.local_moves += local.moves;
@@ -192,7 +210,9 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       side = fraction(0) <= fraction(1) ? 0 : 1;
       in_block = 0;
     }
+    const Clock::time_point split_start = Clock::now();
     const int vs = map.split_next(side);
+    stats.seconds_splits += seconds_since(split_start);
     ++in_block;
     ++stats.splits;
     after(map, options, {SurfaceStep::split, side, vs, 0.0});
@@ -200,29 +220,29 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     todo.push_back(vs);
     std::vector<std::pair<int, int>> region;
     for (int v : todo) {
-      optimise(map, options, side, v, backoff);
+      optimise(map, options, side, v, backoff, stats);
       region.push_back({side, v});
     }
     if (options.optimise_other_side)
       for (int x : map.others_in_ring(side, vs))
         if (map.is_active(1 - side, x)) {
-          optimise(map, options, 1 - side, x, backoff);
+          optimise(map, options, 1 - side, x, backoff, stats);
           region.push_back({1 - side, x});
         }
     if (map.last_split_growth() > options.hard_split_growth) {
       ++stats.hard_splits;
       if (options.hard_split_relaxation > 0)
-        add(relax_from(map, options, region, options.hard_split_relaxation * region.size(),
-                       backoff));
+        add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff,
+                       stats));
     }
     const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
     if (double(total) >= options.sweep_growth * double(last_sweep)) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (sweep(map, options, backoff) < 1e-3 * e) break;
+        if (sweep(map, options, backoff, stats) < 1e-3 * e) break;
       }
-      add(local_relaxation(map, options, backoff));
+      add(local_relaxation(map, options, backoff, stats));
       last_sweep = total;
     }
     if (options.progress && total_splits)
@@ -240,11 +260,12 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;
-    if (sweep(map, options, backoff) < options.final_relative_gain * e) break;
+    if (sweep(map, options, backoff, stats) < options.final_relative_gain * e) break;
   }
-  add(local_relaxation(map, options, backoff));
+  add(local_relaxation(map, options, backoff, stats));
   stats.large_chart_skips = backoff_state.skipped();
   stats.energy = map.energy();
+  stats.seconds = seconds_since(start);
   return stats;
 }
 

@@ -10,6 +10,7 @@
 #include "map/inter_surface_map.hpp"
 #include "refine/refine.hpp"
 
+#include <array>
 #include <functional>
 #include <string>
 
@@ -63,8 +64,8 @@ struct SurfaceRefineOptions {
   double hard_split_growth = 10;
   std::size_t hard_split_relaxation = 50;
   /// Vertices whose optimisation in a large chart (InterSurfaceMap::
-  /// last_chart_large(): a cone of a coarse domain, whose chart holds much
-  /// of the surface) found no lower energy are retried less and less often:
+  /// last_chart() is ChartKind::large: a cone of a coarse domain, whose
+  /// chart holds much of the surface) found no lower energy are retried less and less often:
   /// after k such failures in a row, the next 2^k - 1 of its optimisations
   /// are skipped (k at most 6); a kept move resets it. Once 8 large charts
   /// of a side have failed and none has gained, the vertices of that side
@@ -97,6 +98,15 @@ struct SurfaceRefineStats {
   std::size_t large_chart_skips = 0;         // optimisations skipped by large_chart_backoff
   std::size_t global_steps = 0, global_steps_applied = 0;  // before_final: run, gained
   double energy = 0;
+  /// Wall seconds of the call, and the parts they went to: the vertex
+  /// optimisations it ran, by the chart each was laid out in (indexed by
+  /// ChartKind; those a split's retries run count with the split), the
+  /// splits, and the discs of the local relaxation (gathered, laid out,
+  /// descended, committed or refused). The rest (sweep bookkeeping, the
+  /// global step, validation when asked) is the difference.
+  double seconds = 0;
+  std::array<double, 5> seconds_by_chart{};
+  double seconds_splits = 0, seconds_discs = 0;
 };
 
 /// Refines both sides to full resolution. Throws std::runtime_error (from

@@ -195,6 +195,15 @@ TEST(RefineSurfaces, LargeChartsThatFindNothingAreRetriedLessOften) {
     };
     r.stats = refine_surfaces(map, options);
     EXPECT_FALSE(map.validate());
+    // The timings are disjoint parts of the call; the cones' charts among them.
+    double parts = r.stats.seconds_splits + r.stats.seconds_discs;
+    for (const double s : r.stats.seconds_by_chart) {
+      EXPECT_GE(s, 0);
+      parts += s;
+    }
+    EXPECT_GT(r.stats.seconds_by_chart[std::size_t(ChartKind::large)], 0);
+    EXPECT_GT(r.stats.seconds_splits, 0);
+    EXPECT_LE(parts, r.stats.seconds);
     r.optimizations = map.stats().optimizations;
     r.efficiency = map.measures().symmetric_efficiency;
     return r;
