@@ -15,7 +15,6 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
   j["fast_path_fraction"] =
       double(stats.single_face_rings) / double(std::max<std::size_t>(1, stats.optimizations));
   j["split_repairs"] = stats.split_repairs;
-  j["seconds_refine"] = stats.seconds;
   if (stats.reembeddings > 0) {
     j["global_reembeddings"] = stats.reembeddings;
     j["global_reembeddings_applied"] = stats.reembeddings_applied;
@@ -52,14 +51,6 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["discs_applied"] = stats.discs_applied;
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
-  j["seconds_refine"] = stats.seconds;
-  Json& t = j["seconds_by_operation"];
-  const char* charts[] = {"unchartable", "fast_charts", "developed_charts", "general_charts",
-                          "large_charts"};
-  for (std::size_t k = 0; k < stats.seconds_by_chart.size(); ++k)
-    t[charts[k]] = stats.seconds_by_chart[k];
-  t["splits"] = stats.seconds_splits;
-  t["discs"] = stats.seconds_discs;
   return j;
 }
 

@@ -236,6 +236,21 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       v["efficiency_domain_to_surface"] = m.forward_efficiency;
       v["symmetric_efficiency"] = m.symmetric_efficiency;
       v["seconds"] = outcomes[i].seconds;
+      // Its refinement to full resolution (on the symmetric core from the
+      // takeover), and there the parts that time went to.
+      if (result.symmetric) {
+        const SurfaceRefineStats& s = result.symmetric_stats;
+        v["seconds_refine"] = s.seconds;
+        Json& t = v["seconds_by_operation"];
+        const char* charts[] = {"unchartable", "fast_charts", "developed_charts", "general_charts",
+                                "large_charts"};
+        for (std::size_t k = 0; k < s.seconds_by_chart.size(); ++k)
+          t[charts[k]] = s.seconds_by_chart[k];
+        t["splits"] = s.seconds_splits;
+        t["discs"] = s.seconds_discs;
+      } else {
+        v["seconds_refine"] = result.stats.seconds;
+      }
     }
     v["kept"] = i == *kept;
     variants.push_back(v);

@@ -59,7 +59,10 @@ def test_the_remesh_and_the_figures_are_the_tools(runs):
     for section in DETERMINISTIC_SECTIONS:
         assert r.report[section] == cli[section], section
     for variant, cli_variant in zip(r.report["map_variants"], cli["map_variants"]):
-        variant.pop("seconds"), cli_variant.pop("seconds")
+        # (Times, seconds*, differ from run to run; all else is the same.)
+        for timed in (variant, cli_variant):
+            for key in [k for k in timed if k.startswith("seconds")]:
+                timed.pop(key)
         assert variant == cli_variant
     assert r.report["map"]["valid"] and r.report["meta_mesh"]["valid"]
     assert r.report["image"]["efficiency_square"] > 0.5
