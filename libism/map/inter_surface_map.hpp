@@ -95,6 +95,12 @@ struct InterSurfaceOptions {
 /// whose ring holds much of the other side, as a cone of a coarse domain's
 /// does: its evaluations cost thousands of pieces each).
 enum class ChartKind { none, fast, developed, general, large };
+inline constexpr std::size_t kChartKinds = 5;
+/// "unchartable", "fast", "developed", "general", "large".
+inline const char* chart_kind_name(ChartKind kind) {
+  static const char* names[kChartKinds] = {"unchartable", "fast", "developed", "general", "large"};
+  return names[std::size_t(kind)];
+}
 
 /// What the local operations did (for reports and tests).
 struct MapOperationStats {

@@ -344,8 +344,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     std::vector<double> direction(m);
     double cone = 2 * M_PI;
     if (vloc.face >= 0) {
-      const Layout3 L = meta_face_layout(T.lengths[vloc.face]);
-      chart.centre = from_barycentric(vloc.bary, L);
+      // (chart.centre: set above, in this face's layout.)
       for (std::size_t i = 0; i < m; ++i) {
         const auto first = first_place(i);
         if (!first) return chart_fail(3);

@@ -2,9 +2,9 @@
 
 #include "refine/disc_relaxation.hpp"
 #include "refine/flat_reembedding.hpp"
+#include "refine/stopwatch.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <deque>
 #include <stdexcept>
 
@@ -86,11 +86,8 @@ LocalRelaxationStats local_relaxation(SurfaceMap& map, double relative_gain, dou
 }
 
 RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   RefineStats stats;
-  auto seconds = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   auto check = [&](const char* when) {
     if (!options.validate_each_step) return;
     if (auto problem = map.validate())
@@ -181,7 +178,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   }
   if (map.splits_applied() < map.splits_total()) {  // stopped early: no final sweeps
     stats.energy = map.energy();
-    stats.seconds = seconds();
+    stats.seconds = watch.seconds();
     return stats;
   }
   if (reembed && options.reembed_final) reembedding();
@@ -199,7 +196,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   stats.optimizations = map.optimizations();
   stats.single_face_rings = map.single_face_rings();
   if (options.progress) options.progress(1.0);
-  stats.seconds = seconds();
+  stats.seconds = watch.seconds();
   return stats;
 }
 

@@ -1,10 +1,10 @@
 #include "refine/refine_surfaces.hpp"
 
 #include "refine/disc_relaxation.hpp"
+#include "refine/stopwatch.hpp"
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cstdio>
 #include <deque>
 #include <stdexcept>
@@ -14,12 +14,6 @@
 namespace ism {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// After a split or a kept move: validation when asked, then the hook.
 void after(const InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceStep step) {
@@ -84,10 +78,10 @@ class Backoff {
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
                 Backoff* backoff, SurfaceRefineStats& stats) {
   if (backoff && backoff->skip(side, v)) return 0.0;
-  const Clock::time_point start = Clock::now();
+  const Stopwatch watch;
   const double g = map.optimize_vertex(side, v);
   const ChartKind chart = map.last_chart();
-  stats.seconds_by_chart[std::size_t(chart)] += seconds_since(start);
+  stats.seconds_by_chart[std::size_t(chart)] += watch.seconds();
   if (backoff) backoff->record(side, v, chart == ChartKind::large, g);
   if (g > 0) after(map, options, {SurfaceStep::optimise, side, v, g});
   return g;
@@ -144,10 +138,10 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     if (side != 1 || options.local_disc_every <= 0 || ++gaining[v] % options.local_disc_every != 0)
       continue;
     // (No layout, found while the rings are gathered: mostly near a cone.)
-    const Clock::time_point start = Clock::now();
+    const Stopwatch watch;
     const std::vector<int> disc = map.disc_around(v, options.local_disc_rings);
     const double d = disc.empty() ? 0.0 : reembed_disc(map, disc);
-    timing.seconds_discs += seconds_since(start);
+    timing.seconds_discs += watch.seconds();
     ++stats.discs;
     if (!(d > 0)) continue;
     ++stats.discs_applied;
@@ -186,7 +180,7 @@ LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefi
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
-  const Clock::time_point start = Clock::now();
+  const Stopwatch watch;
   SurfaceRefineStats stats;
   auto add = [&](const LocalRelaxationStats& local) {
     stats.local_moves += local.moves;
@@ -210,9 +204,9 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       side = fraction(0) <= fraction(1) ? 0 : 1;
       in_block = 0;
     }
-    const Clock::time_point split_start = Clock::now();
+    const Stopwatch split_watch;
     const int vs = map.split_next(side);
-    stats.seconds_splits += seconds_since(split_start);
+    stats.seconds_splits += split_watch.seconds();
     ++in_block;
     ++stats.splits;
     after(map, options, {SurfaceStep::split, side, vs, 0.0});
@@ -265,7 +259,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   add(local_relaxation(map, options, backoff, stats));
   stats.large_chart_skips = backoff_state.skipped();
   stats.energy = map.energy();
-  stats.seconds = seconds_since(start);
+  stats.seconds = watch.seconds();
   return stats;
 }
 

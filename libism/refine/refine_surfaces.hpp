@@ -65,8 +65,9 @@ struct SurfaceRefineOptions {
   std::size_t hard_split_relaxation = 50;
   /// Vertices whose optimisation in a large chart (InterSurfaceMap::
   /// last_chart() is ChartKind::large: a cone of a coarse domain, whose
-  /// chart holds much of the surface) found no lower energy are retried less and less often:
-  /// after k such failures in a row, the next 2^k - 1 of its optimisations
+  /// chart holds much of the surface) found no lower energy are retried
+  /// less and less often: after k such failures in a row, the next 2^k - 1
+  /// of its optimisations
   /// are skipped (k at most 6); a kept move resets it. Once 8 large charts
   /// of a side have failed and none has gained, the vertices of that side
   /// whose last chart was large are not optimised again. Such a chart costs
@@ -105,7 +106,7 @@ struct SurfaceRefineStats {
   /// descended, committed or refused). The rest (sweep bookkeeping, the
   /// global step, validation when asked) is the difference.
   double seconds = 0;
-  std::array<double, 5> seconds_by_chart{};
+  std::array<double, kChartKinds> seconds_by_chart{};
   double seconds_splits = 0, seconds_discs = 0;
 };
 

@@ -242,10 +242,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
         const SurfaceRefineStats& s = result.symmetric_stats;
         v["seconds_refine"] = s.seconds;
         Json& t = v["seconds_by_operation"];
-        const char* charts[] = {"unchartable", "fast_charts", "developed_charts", "general_charts",
-                                "large_charts"};
-        for (std::size_t k = 0; k < s.seconds_by_chart.size(); ++k)
-          t[charts[k]] = s.seconds_by_chart[k];
+        for (std::size_t k = 0; k < kChartKinds; ++k)
+          t[std::string(chart_kind_name(ChartKind(k))) + (k ? "_charts" : "")] =
+              s.seconds_by_chart[k];
         t["splits"] = s.seconds_splits;
         t["discs"] = s.seconds_discs;
       } else {

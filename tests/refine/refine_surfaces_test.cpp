@@ -238,7 +238,9 @@ TEST(RefineSurfaces, DiscsOverOneOrTwoDomainFacesAreReembeddedWhole) {
   double energy = map.energy();
   options.on_step = [&](const SurfaceStep& step) {
     const double after = map.energy();
-    if (step.kind == SurfaceStep::optimise) EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    if (step.kind == SurfaceStep::optimise) {
+      EXPECT_NEAR(energy - after, step.gain, 1e-9 * energy);
+    }
     energy = after;
   };
   const SurfaceRefineStats stats = refine_surfaces(map, options);
