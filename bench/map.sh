@@ -10,7 +10,7 @@ echo "Efficiency: one-way domain->surface (fwd), surface->domain (bwd), symmetri
 echo "Fast path: optimisations whose one-ring lay inside one face of M¹."
 echo "Discs: disc re-embeddings kept / tried (RefineOptions: outlier discs and discs in local relaxation)."
 echo "Meta-mesh (map/meta_mesh.hpp): the map in symmetric form; its pieces (cells of the overlay); the time to build it, validate it from both sides and measure it from its pieces; valid: from both sides, with the pieces' symmetric efficiency equal to the map's (1e-9)."
-echo "Queries (MapSampler): sample 1025²: the 1025x1025 octahedral geometry image, domain -> surface (threads as gim-remesh); back 1025²: as many points surface -> domain, one thread. Peak memory includes the image (25 MB)."
+echo "Queries (MetaMeshSampler, indexed from the pieces validation cut): sample 1025²: the 1025x1025 octahedral geometry image, domain -> surface (threads as gim-remesh); back 1025²: as many points surface -> domain, one thread. Peak memory includes the image (25 MB)."
 echo
 echo "Partition: all candidate networks; pm + choice: their progressive meshes and coarse maps (1000 vertices)."
 echo

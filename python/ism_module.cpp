@@ -463,8 +463,8 @@ PYBIND11_MODULE(ism, m) {
       "an alpha channel, mask (.png) marks the surface, vertices/faces drop the caps), as the\n"
       "gim-remesh tool (same\n"
       "options, same defaults: curvature_weight None means the tool's 0.5, inverse_weight None\n"
-      "its two map variants; core 'symmetric' the one map both sides refine, closed surfaces\n"
-      "only). features: a file path, 6 vertex indices or 6 points for\n"
+      "its two map variants; core 'symmetric' the one map both sides refine, holes capped\n"
+      "alike). features: a file path, 6 vertex indices or 6 points for\n"
       "+x -x +y -y +z -z (default automatic). output/normals (.exr), mesh (.obj .ply .off .stl\n"
       ".drc .glb), preview (.png), dump_patches (.ply), meta_mesh, report (.json) are written\n"
       "when given.");

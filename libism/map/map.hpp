@@ -6,5 +6,4 @@
 #include "map/meta_mesh.hpp"
 #include "map/meta_mesh_sampler.hpp"
 #include "map/overlay.hpp"
-#include "map/sampler.hpp"
 #include "map/surface_map.hpp"

@@ -42,6 +42,7 @@ std::optional<MetaMesh> meta_mesh(const SurfaceMap& map) {
   for (std::size_t f = 0; f < d.faces.size(); ++f) d.lengths.push_back(domain.lengths(int(f)));
   s.faces = map.faces();
   const auto& x = map.positions();
+  s.positions = x;
   for (const Triangle& t : s.faces)
     s.lengths.push_back(
         {(x[t[1]] - x[t[0]]).norm(), (x[t[2]] - x[t[1]]).norm(), (x[t[0]] - x[t[2]]).norm()});

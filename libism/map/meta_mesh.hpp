@@ -70,8 +70,9 @@ struct MetaMesh {
 };
 
 /// The meta-mesh of a map at its current resolution. M²'s metric is the
-/// lengths of its 3D edges; its vertex numbers are the map's (vertices not
-/// yet split off are unused). Nothing if the map does not validate.
+/// lengths of its 3D edges, its positions the map's; its vertex numbers are
+/// the map's (vertices not yet split off are unused). Nothing if the map
+/// does not validate.
 std::optional<MetaMesh> meta_mesh(const SurfaceMap& map);
 
 /// The same meta-mesh with the two sides exchanged.
@@ -134,8 +135,10 @@ std::optional<std::array<Vec2, 3>> layout_across(const std::array<Vec2, 3>& G, i
 /// the meta-mesh does not validate. For a meta-mesh of a SurfaceMap they
 /// agree with SurfaceMap::measures(), which works on whole M² faces.
 std::optional<MapMeasures> measures(const MetaMesh& meta);
-/// The same from pieces already cut (meta_pieces), side 0 the domain.
-MapMeasures measures(std::span<const MetaPiece> pieces);
+/// The same from pieces already cut (meta_pieces), side 0 the domain, over
+/// the pieces in faces f of side 1 with counted[f] set (all when empty; the
+/// surface's faces that are the input's, where caps close it).
+MapMeasures measures(std::span<const MetaPiece> pieces, const std::vector<char>& counted = {});
 
 /// Counts of a meta-mesh's elements.
 struct MetaMeshSize {

@@ -189,13 +189,16 @@ std::optional<MapMeasures> measures(const MetaMesh& meta) {
   return measures(*pieces);
 }
 
-MapMeasures measures(std::span<const MetaPiece> all) {
+MapMeasures measures(std::span<const MetaPiece> all, const std::vector<char>& counted) {
   // From the pieces' triangles in both layouts, as the energy the map core
   // lowers (triangle_stretch_terms): the normalised L2 stretch of each
   // direction, L2n² = Σ A_to σ² / A_to · (A_from / A_to).
   double forward = 0, backward = 0, area0 = 0, area1 = 0;
   bool finite = !all.empty();
+  bool any = false;
   for (const MetaPiece& piece : all) {
+    if (!counted.empty() && !counted.at(std::size_t(piece.face[1]))) continue;
+    any = true;
     const PieceTriangulation tri = triangulate_piece(piece);
     if (tri.triangles.empty()) finite = false;
     const auto& [p, q] = tri.points;
@@ -206,7 +209,7 @@ MapMeasures measures(std::span<const MetaPiece> all) {
       forward += s.forward, backward += s.backward, area0 += s.area0, area1 += s.area1;
     }
   }
-  if (all.empty()) return {};
+  if (!any) return {};
   if (!finite || !(area0 > 0) || !(area1 > 0)) return MapMeasures{0, 0, 0};
   const double l2_forward = forward / area1 * (area0 / area1);
   const double l2_backward = backward / area0 * (area1 / area0);

@@ -11,12 +11,26 @@ namespace ism {
 MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
   auto pieces = meta_pieces(meta);
   if (!pieces) throw std::invalid_argument("MetaMeshSampler: the meta-mesh does not validate");
-  pieces_ = std::move(*pieces);
-  triangles_.reserve(pieces_.size());
-  for (const MetaPiece& piece : pieces_) {
-    PieceTriangulation tri = triangulate_piece(piece);
-    triangles_.push_back(std::move(tri.triangles));
-    points_.push_back(std::move(tri.points));
+  index(meta, *pieces);
+}
+
+MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta, std::vector<MetaPiece> pieces) {
+  index(meta, pieces);
+}
+
+void MetaMeshSampler::index(const MetaMesh& meta, const std::vector<MetaPiece>& pieces) {
+  // Of each piece: its faces, and its triangulation's triangles and points.
+  face_.reserve(pieces.size());
+  first_point_.assign(1, 0);
+  first_triangle_.assign(1, 0);
+  for (const MetaPiece& piece : pieces) {
+    const PieceTriangulation tri = triangulate_piece(piece);
+    face_.push_back(piece.face);
+    for (int m = 0; m < 2; ++m)
+      point_[m].insert(point_[m].end(), tri.points[m].begin(), tri.points[m].end());
+    triangle_.insert(triangle_.end(), tri.triangles.begin(), tri.triangles.end());
+    first_point_.push_back(int(point_[0].size()));
+    first_triangle_.push_back(int(triangle_.size()));
   }
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
@@ -24,7 +38,7 @@ MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
     layout_[m].resize(nf);
     for (std::size_t f = 0; f < nf; ++f) layout_[m][f] = meta_face_layout(side.lengths[f]);
     std::vector<std::vector<int>> in_face(nf);
-    for (std::size_t i = 0; i < pieces_.size(); ++i) in_face[pieces_[i].face[m]].push_back(int(i));
+    for (std::size_t i = 0; i < face_.size(); ++i) in_face[face_[i][m]].push_back(int(i));
     grid_[m].resize(nf);
     for (std::size_t f = 0; f < nf; ++f) {
       Grid& g = grid_[m][f];
@@ -40,8 +54,9 @@ MetaMeshSampler::MetaMeshSampler(const MetaMesh& meta) {
       };
       std::vector<std::vector<int>> cells(std::size_t(g.n) * g.n);
       for (int i : in_face[f]) {
-        Vec2 a = pieces_[i].corner[m][0], b = a;
-        for (const Vec2& p : pieces_[i].corner[m]) a = a.cwiseMin(p), b = b.cwiseMax(p);
+        Vec2 a = point_[m][first_point_[i]], b = a;
+        for (int j = first_point_[i]; j < first_point_[i + 1]; ++j)
+          a = a.cwiseMin(point_[m][j]), b = b.cwiseMax(point_[m][j]);
         const Eigen::Vector2i c0 = cell_of(a), c1 = cell_of(b);
         for (int y = c0.y(); y <= c1.y(); ++y)
           for (int x = c0.x(); x <= c1.x(); ++x) cells[std::size_t(y) * g.n + x].push_back(i);
@@ -66,24 +81,22 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
   const std::size_t c = std::size_t(y) * g.n + x;
   // The triangle of a piece's triangulation that p is deepest inside
   // (points on a shared side belong to either).
-  int best = -1;
-  std::size_t best_triangle = 0;
+  int best = -1, best_triangle = 0;
   Eigen::Vector3d in = Eigen::Vector3d::Constant(-HUGE_VAL);
   for (int k = g.start[c]; k < g.start[c + 1]; ++k) {
-    const auto& q = points_[g.items[k]][m];
-    const auto& tris = triangles_[g.items[k]];
-    for (std::size_t j = 0; j < tris.size(); ++j) {
-      const auto& t = tris[j];
+    const int i = g.items[k];
+    const Vec2* q = point_[m].data() + first_point_[i];
+    for (int j = first_triangle_[i]; j < first_triangle_[i + 1]; ++j) {
+      const auto& t = triangle_[j];
       const Eigen::Vector3d b = barycentric(p, q[t[0]], q[t[1]], q[t[2]]);
-      if (b.minCoeff() > in.minCoeff()) in = b, best = g.items[k], best_triangle = j;
+      if (b.minCoeff() > in.minCoeff()) in = b, best = i, best_triangle = j;
     }
   }
   if (best < 0 || in.minCoeff() < -1e-9) return std::nullopt;
-  const MetaPiece& piece = pieces_[best];
-  const auto& t = triangles_[best][best_triangle];
-  const auto& r = points_[best][1 - m];
+  const auto& t = triangle_[best_triangle];
+  const Vec2* r = point_[1 - m].data() + first_point_[best];
   const Vec2 image = in[0] * r[t[0]] + in[1] * r[t[1]] + in[2] * r[t[2]];
-  const int other = piece.face[1 - m];
+  const int other = face_[best][1 - m];
   const auto& lo = layout_[1 - m][other];
   Eigen::Vector3d out = barycentric(image, lo[0], lo[1], lo[2]).cwiseMax(0.0);
   out /= out.sum();
@@ -91,7 +104,21 @@ std::optional<MetaPoint> MetaMeshSampler::map_point(int m, int face,
 }
 
 DomainSurfaceSampler::DomainSurfaceSampler(const MetaMesh& meta, const DomainGeometry& domain)
-    : sampler_(meta), faces_(meta.side[1].faces), positions_(meta.side[1].positions) {
+    : DomainSurfaceSampler(
+          meta,
+          [&] {
+            auto pieces = meta_pieces(meta);
+            if (!pieces)
+              throw std::invalid_argument("DomainSurfaceSampler: the meta-mesh does not validate");
+            return std::move(*pieces);
+          }(),
+          domain) {}
+
+DomainSurfaceSampler::DomainSurfaceSampler(const MetaMesh& meta, std::vector<MetaPiece> pieces,
+                                           const DomainGeometry& domain)
+    : sampler_(meta, std::move(pieces)),
+      faces_(meta.side[1].faces),
+      positions_(meta.side[1].positions) {
   if (positions_.empty())
     throw std::invalid_argument("DomainSurfaceSampler: side 1 is not an embedded surface");
   side_face_.assign(domain.n_faces(), {-1, 0});

@@ -97,11 +97,6 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   }
   const bool open = !capped.loops.empty();
   const TriangleMesh& closed = capped.mesh;
-  const bool symmetric = o.map.core == tool::MapCore::symmetric;
-  if (symmetric && open)
-    throw tool::Failure("gim-remesh: " + input +
-                        " has holes; --core symmetric maps closed surfaces only (the default core "
-                        "caps holes)");
 
   run.stage("partition");
   std::vector<PathNetwork> networks;
@@ -133,13 +128,20 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   const auto judge = [&](const SurfaceMap& m) {
     return m.measures(input_faces.of(m)).forward_efficiency;
   };
-  // Ranked by the measure the final map is kept by (caps excluded; the
-  // symmetric core maps closed surfaces only).
-  auto [chosen, stats, symmetric_map, symmetric_stats] = tool::run_map_stage(
+  // The same on the symmetric core, from the map's pieces.
+  const auto judge_symmetric = [&](const InterSurfaceMap& m) {
+    const MetaSide& s = m.meta().side[1];
+    const auto pieces = meta_pieces(m.meta());
+    return pieces ? measures(*pieces, input_faces.of(s.faces, s.positions)).forward_efficiency
+                  : 0.0;
+  };
+  // Ranked by the measure the final map is kept by (caps excluded).
+  const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
-       .hint = "try --hold-features or other --features"},
+       .hint = "try --hold-features or other --features",
+       .symmetric_score = open ? tool::SymmetricScore(judge_symmetric) : nullptr},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
         return rank_networks(networks, domain, options, 1000, {}, count, [&](const SurfaceMap& m) {
@@ -147,41 +149,18 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
         });
       },
       judge);
-  // What the rest needs of the map, from either core: the meta-mesh, the
-  // surface point of a domain point, the surface's faces and positions at
-  // full resolution, which faces are the input's, the measures and their
-  // report.
-  MetaMesh meta;
-  std::function<std::optional<SurfacePoint>(int, const Eigen::Vector3d&)> locate;
-  std::vector<Triangle> surface_faces;
-  std::vector<Vec3> surface_positions;
-  std::vector<char> on_input;
-  MapMeasures m;
-  Json map_json;
-  std::unique_ptr<MapSampler> map_sampler;
-  std::unique_ptr<DomainSurfaceSampler> domain_sampler;
-  if (!symmetric_map) {
-    const SurfaceMap& map = *chosen->map;
-    meta = tool::validate_map(run, map);
-    on_input = input_faces.of(map);
-    run.stage("sample");
-    map_sampler = std::make_unique<MapSampler>(map);
-    locate = [&](int f, const Eigen::Vector3d& b) { return map_sampler->surface_point(f, b); };
-    surface_faces = map.faces();
-    surface_positions = map.positions();
-    m = map.measures(on_input);
-    map_json = map_report(map, m, stats);
-  } else {
-    meta = tool::validate_map(run, *symmetric_map);
-    run.stage("sample");
-    domain_sampler = std::make_unique<DomainSurfaceSampler>(meta, domain);
-    locate = [&](int f, const Eigen::Vector3d& b) { return domain_sampler->surface_point(f, b); };
-    surface_faces = meta.side[1].faces;
-    surface_positions = meta.side[1].positions;
-    m = symmetric_map->measures();
-    map_json = map_report(*symmetric_map, m, symmetric_stats);
-  }
-  run.report()["partition"] = partition_report(chosen->network, octahedron, chosen->pm);
+  // The map, from either core, validated, measured on the input and sampled.
+  tool::FinishedMap finished = tool::finish_map(
+      run, staged, domain, [&](const MetaSide& s) { return input_faces.of(s.faces, s.positions); });
+  const MetaMesh& meta = finished.meta;
+  const MapMeasures& m = finished.measures;
+  const std::vector<char> on_input = input_faces.of(meta.side[1].faces, meta.side[1].positions);
+  const std::vector<Triangle>& surface_faces = meta.side[1].faces;
+  const std::vector<Vec3>& surface_positions = meta.side[1].positions;
+  auto locate = [&](int f, const Eigen::Vector3d& b) {
+    return finished.sampler->surface_point(f, b);
+  };
+  run.report()["partition"] = partition_report(staged.setup->network, octahedron, staged.setup->pm);
   run.report()["partition"]["candidate_networks"] = candidates;
 
   const std::vector<Vec3> normals = vertex_normals(surface_faces, surface_positions);
@@ -212,6 +191,7 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
             .normalized());
   });
   const GeometryImage& image = result.image;
+  finished.sampler.reset();  // (its index is not needed from here on)
 
   run.stage("write");
   tool::write_meta_mesh_output(run, o.map, meta);
@@ -238,7 +218,7 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   Json& r = run.report();
   r["size"] = o.size;
   r["metric"] = o.metric;
-  r["map"] = map_json;
+  r["map"] = finished.report;
   const double square_efficiency = image_efficiency(image, ImageDomain::square);
   Json& ij = r["image"];
   ij["efficiency_square"] = square_efficiency;

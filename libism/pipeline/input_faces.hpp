@@ -47,11 +47,16 @@ class InputFaces {
 
   /// Per face of the map: 1 on the input surface, 0 on a cap (empty when
   /// there are no caps: every face counts).
-  std::vector<char> of(const SurfaceMap& map) const {
+  std::vector<char> of(const SurfaceMap& map) const { return of(map.faces(), map.positions()); }
+
+  /// The same for a surface at full resolution given by its faces and
+  /// positions (side 1 of a map's meta-mesh, from either core).
+  std::vector<char> of(const std::vector<Triangle>& faces,
+                       const std::vector<Vec3>& positions) const {
     if (on_input_.empty()) return {};
-    std::vector<char> out(map.n_faces());
-    for (std::size_t f = 0; f < map.n_faces(); ++f) {
-      const auto it = on_input_.find(key(map.positions(), map.faces()[f]));
+    std::vector<char> out(faces.size());
+    for (std::size_t f = 0; f < faces.size(); ++f) {
+      const auto it = on_input_.find(key(positions, faces[f]));
       if (it == on_input_.end())
         throw std::logic_error("a face of the map is not a face of its network");
       out[f] = it->second;

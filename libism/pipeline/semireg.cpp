@@ -423,7 +423,9 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
           const std::lock_guard<std::mutex> lock(domains_mutex);
           i = base_of_domain.at(&m.domain());
         }
-        const MapSampler sampler(m);
+        const std::optional<MetaMesh> meta = meta_mesh(m);
+        if (!meta) return -HUGE_VAL;  // (the epilogue says why, if it is kept)
+        const DomainSurfaceSampler sampler(*meta, m.domain());
         const Locate locate = [&](int f, const Eigen::Vector3d& b) {
           return sampler.surface_point(f, b);
         };
@@ -443,36 +445,21 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   run.report()["partition"] =
       partition_report(chosen->network, open ? chosen_bounded->domain : base, chosen->pm);
 
-  // What the rest needs of the map, from either core: the meta-mesh, the
-  // surface point of a domain point, the measures on the input and their
-  // report (the symmetric core maps closed surfaces only).
-  MetaMesh meta;
-  Locate locate;
-  MapMeasures m;
-  Json map_json;
-  std::unique_ptr<MapSampler> map_sampler;
-  std::unique_ptr<DomainSurfaceSampler> domain_sampler;
-  if (!staged.symmetric) {
-    const SurfaceMap& map = *chosen->map;
-    meta = tool::validate_map(run, map);
-    map_sampler = std::make_unique<MapSampler>(map);
-    m = map.measures(input_faces.of(map));
-    map_json = map_report(map, m, staged.stats);
-  } else {
-    meta = tool::validate_map(run, *staged.symmetric);
-    domain_sampler = std::make_unique<DomainSurfaceSampler>(meta, chosen->map->domain());
-    m = staged.symmetric->measures();
-    map_json = map_report(*staged.symmetric, m, staged.symmetric_stats);
-  }
-  locate = [&](int f, const Eigen::Vector3d& b) {
-    return map_sampler ? map_sampler->surface_point(f, b) : domain_sampler->surface_point(f, b);
+  // The map, from either core, validated, measured on the input and sampled.
+  tool::FinishedMap finished =
+      tool::finish_map(run, staged, chosen->map->domain(),
+                       [&](const MetaSide& s) { return input_faces.of(s.faces, s.positions); });
+  const MetaMesh& meta = finished.meta;
+  const MapMeasures& m = finished.measures;
+  const Locate locate = [&](int f, const Eigen::Vector3d& b) {
+    return finished.sampler->surface_point(f, b);
   };
 
-  run.stage("sample");
   SemiregResult result;
   TriangleMesh& remesh = result.remesh;
   UnfoldReport unfolded;
   std::tie(remesh, unfolded) = sample_remesh(locate, candidate_base[chosen->candidate]);
+  finished.sampler.reset();  // (its index is not needed from here on)
   // The base actually used: its vertices where the remesh has them (the
   // map's images of the base vertices, unless a fold re-sampled one).
   TriangleMesh& used_base = result.base;
@@ -494,7 +481,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
   Json& r = run.report();
   r["levels"] = o.levels;
   r["metric"] = "equilateral";
-  r["map"] = map_json;
+  r["map"] = finished.report;
   Json& sj = r["remesh"];
   sj["vertices"] = remesh.n_vertices();
   sj["faces"] = remesh.n_faces();

@@ -165,7 +165,13 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
       return s->position;
     });
   };
-  auto sample = [&](const SurfaceMap& map) { return sample_with(MapSampler(map)); };
+  // (A variant's map that does not validate scores lowest; the epilogue
+  // says why if it is kept.)
+  auto sample = [&](const SurfaceMap& map) -> std::optional<TorusGrid> {
+    const std::optional<MetaMesh> meta = meta_mesh(map);
+    if (!meta) return std::nullopt;
+    return sample_with(DomainSurfaceSampler(*meta, domain));
+  };
   auto sample_symmetric = [&](const MetaMesh& meta) {
     return sample_with(DomainSurfaceSampler(meta, domain));
   };
@@ -198,7 +204,10 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
         coarse.local_disc_every = kLocalDiscEvery;
         return rank_networks(candidates.networks, domain, options, 1000, coarse, count);
       },
-      [&](const SurfaceMap& map) { return grid_score(sample(map)); });
+      [&](const SurfaceMap& map) {
+        const std::optional<TorusGrid> grid = sample(map);
+        return grid ? grid_score(*grid) : -HUGE_VAL;
+      });
   const auto& chosen = staged.setup;
   run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
   run.report()["partition"]["candidate_networks"] = n_candidates;
@@ -215,25 +224,13 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
                                   : "it gives a worse, twisted map (oriented against the domain)"));
   }
 
-  // The map from either core: its meta-mesh, measures and report.
-  MetaMesh meta;
-  MapMeasures m;
-  Json map_json;
+  // The map, from either core, validated, measured and sampled.
+  tool::FinishedMap finished = tool::finish_map(run, staged, domain);
+  const MetaMesh& meta = finished.meta;
+  const MapMeasures& m = finished.measures;
   TorusRemeshResult result;
-  if (!staged.symmetric) {
-    const SurfaceMap& map = *chosen->map;
-    meta = tool::validate_map(run, map);
-    run.stage("sample");
-    result.grid = sample(map);
-    m = map.measures();
-    map_json = map_report(map, m, staged.stats);
-  } else {
-    meta = tool::validate_map(run, *staged.symmetric);
-    run.stage("sample");
-    result.grid = sample_symmetric(meta);
-    m = staged.symmetric->measures();
-    map_json = map_report(*staged.symmetric, m, staged.symmetric_stats);
-  }
+  result.grid = sample_with(*finished.sampler);
+  finished.sampler.reset();  // (its index is not needed from here on)
   const TorusGrid& grid = result.grid;
   const QuadMesh& quads = result.quads = torus_grid_mesh(grid);
   const TriangleMesh& triangles = result.triangles = torus_grid_triangles(grid);
@@ -257,7 +254,7 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const std::size_t flipped = torus_grid_flipped_triangles(grid);
   Json& r = run.report();
   r["metric"] = "right-isosceles";
-  r["map"] = map_json;
+  r["map"] = finished.report;
   Json& gj = r["grid"];
   gj["columns"] = size.columns;
   gj["rows"] = size.rows;

@@ -85,7 +85,7 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
 }
 
 /// --core: which map core refines the chosen coarse map (MapSettings::core),
-/// for the front ends that offer the symmetric one (closed surfaces), which
+/// for the front ends that offer the symmetric one (semireg: closed surfaces), which
 /// takes each coarse map over at `from_vertices` (MapStage::symmetric_from_vertices).
 inline void add_core_option(CLI::App& app, MapSettings& settings,
                             std::size_t from_vertices = kSymmetricFromVertices) {

@@ -1,6 +1,7 @@
 #include "tool/map_stage.hpp"
 
 #include "io/io.hpp"
+#include "report/report.hpp"
 #include "tool/failure.hpp"
 
 #include <tbb/task_group.h>
@@ -117,6 +118,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     std::exception_ptr error;
     bool used = false;  // false: the variant had fewer candidates
     double score = 0;
+    MapMeasures measures;  // of the refined map (the symmetric core's: its pieces cut once)
     double seconds = 0;
   };
   std::vector<Outcome> outcomes;
@@ -155,8 +157,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               if (settings.core == MapCore::symmetric) {
                 refine_symmetric(out.result, all[i], report_progress, stage, settings);
                 const InterSurfaceMap& map = *out.result.symmetric;
+                out.measures = map.measures();
                 out.score = stage.symmetric_score ? stage.symmetric_score(map)
-                                                  : map.measures().forward_efficiency;
+                                                  : out.measures.forward_efficiency;
               } else {
                 RefineOptions options;
                 options.max_final_sweeps = settings.final_sweeps;
@@ -165,6 +168,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
                 options.progress = report_progress;
                 out.result.stats = refine(*out.result.setup->map, options);
                 out.score = score(*out.result.setup->map);
+                out.measures = out.result.setup->map->measures();
               }
             } catch (...) {
               out.error = std::current_exception();
@@ -229,8 +233,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       }
     } else {
       const MapStageResult& result = outcomes[i].result;
-      const MapMeasures m =
-          result.symmetric ? result.symmetric->measures() : result.setup->map->measures();
+      const MapMeasures& m = outcomes[i].measures;
       v["candidate"] = outcomes[i].result.setup->candidate;
       v["score"] = outcomes[i].score;
       v["efficiency_domain_to_surface"] = m.forward_efficiency;
@@ -283,35 +286,35 @@ void report_meta_mesh(Run& run, const MetaMesh& meta, const std::vector<MetaPiec
   j["points_inside_pieces"] = size.points_inside_pieces;
 }
 
-std::string invalid_prefix(const Run& run) {
-  return run.tool_name() + ": internal error, the map is invalid: ";
-}
-
 }  // namespace
 
-MetaMesh validate_map(Run& run, const SurfaceMap& map) {
+FinishedMap finish_map(Run& run, const MapStageResult& staged, const DomainGeometry& domain,
+                       const std::function<std::vector<char>(const MetaSide&)>& counted) {
   run.stage("validate");
-  const std::string invalid = invalid_prefix(run);
-  if (const auto problem = map.validate())
+  const std::string invalid = run.tool_name() + ": internal error, the map is invalid: ";
+  FinishedMap out;
+  const SurfaceMap* map = staged.symmetric ? nullptr : staged.setup->map.get();
+  if (const auto problem = map ? map->validate() : staged.symmetric->validate())
     throw Failure(invalid + *problem, Failure::Kind::internal);
-  // The same map from both sides, independently of how SurfaceMap stores it.
-  std::optional<MetaMesh> meta = meta_mesh(map);
-  if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
-  const auto pieces = meta_pieces(*meta);
+  if (map) {
+    // The same map from both sides, independently of how SurfaceMap stores it.
+    std::optional<MetaMesh> meta = meta_mesh(*map);
+    if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
+    out.meta = std::move(*meta);
+  } else {
+    out.meta = staged.symmetric->meta();
+  }
+  auto pieces = meta_pieces(out.meta);
   if (!pieces)
-    throw Failure(invalid + "meta-mesh: " + validate(*meta).value_or("?"), Failure::Kind::internal);
-  report_meta_mesh(run, *meta, *pieces);
-  return std::move(*meta);
-}
-
-MetaMesh validate_map(Run& run, const InterSurfaceMap& map) {
-  run.stage("validate");
-  if (const auto problem = map.validate())
-    throw Failure(invalid_prefix(run) + *problem, Failure::Kind::internal);
-  const auto pieces = meta_pieces(map.meta());
-  if (!pieces) throw Failure(invalid_prefix(run) + "it has no pieces", Failure::Kind::internal);
-  report_meta_mesh(run, map.meta(), *pieces);
-  return map.meta();
+    throw Failure(invalid + "meta-mesh: " + validate(out.meta).value_or("?"),
+                  Failure::Kind::internal);
+  report_meta_mesh(run, out.meta, *pieces);
+  out.measures = measures(*pieces, counted ? counted(out.meta.side[1]) : std::vector<char>{});
+  out.report = map ? map_report(*map, out.measures, staged.stats)
+                   : map_report(*staged.symmetric, out.measures, staged.symmetric_stats);
+  run.stage("sample");
+  out.sampler = std::make_unique<DomainSurfaceSampler>(out.meta, std::move(*pieces), domain);
+  return out;
 }
 
 void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta) {

@@ -11,6 +11,7 @@
 // as cube.obj in folds the symmetric energy avoids).
 #include "io/draco_io.hpp"
 #include "map/meta_mesh.hpp"
+#include "map/meta_mesh_sampler.hpp"
 #include "partition/partition.hpp"
 #include "refine/network_choice.hpp"
 #include "refine/refine.hpp"
@@ -35,7 +36,7 @@ struct MapVariant {
 
 /// Which map core refines the chosen coarse map: SurfaceMap (the remeshers'
 /// own) or the symmetric core (InterSurfaceMap: the domain as side 0, cones
-/// released continuously; the remeshers, closed surfaces). The symmetric
+/// released continuously; semireg, closed surfaces only). The symmetric
 /// core takes over the coarse map at MapStage::symmetric_from_vertices
 /// surface vertices (by default kSymmetricFromVertices, where SurfaceMap's
 /// discrete cone moves have placed the cones).
@@ -79,6 +80,10 @@ struct MapSettings {
 void check_settings(const std::string& tool, const MapSettings& settings,
                     const io::MeshFileOptions& mesh_file = {});
 
+/// Scores a refined map; the variant with the highest score is kept.
+using MapScore = std::function<double(const SurfaceMap&)>;
+using SymmetricScore = std::function<double(const InterSurfaceMap&)>;
+
 struct MapStage {
   std::string input;         // the surface's file, for messages
   std::string dump_patches;  // PLY of the network's patches; empty: none
@@ -104,11 +109,9 @@ struct MapStage {
   std::function<double(InterSurfaceMap&)> symmetric_before_final;
   /// The symmetric core's score of a refined map (the variant with the
   /// highest is kept); empty: its one-way efficiency domain -> surface.
-  std::function<double(const InterSurfaceMap&)> symmetric_score;
+  SymmetricScore symmetric_score;
 };
 
-/// Scores a refined map; the variant with the highest score is kept.
-using MapScore = std::function<double(const SurfaceMap&)>;
 /// Chooses the network (or domain) and builds its coarse map with the given
 /// options: the best `count` candidates, best first (fewer when fewer map;
 /// count is MapSettings::contenders), e.g. choose_network() or
@@ -159,15 +162,29 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);
 
-/// The "validate" stage every front end ends its map with: the map's
-/// invariants (SurfaceMap::validate), then its meta-mesh validated from both
-/// sides. A violation throws Failure "<tool>: internal error, the map is
-/// invalid: <why>". The report gets "meta_mesh" (valid, sizes). Returns the
-/// meta-mesh, for write_meta_mesh_output.
-MetaMesh validate_map(Run& run, const SurfaceMap& map);
-/// The same for a map on the symmetric core: InterSurfaceMap::validate (both
-/// sides), the report's "meta_mesh", and a copy of its meta-mesh.
-MetaMesh validate_map(Run& run, const InterSurfaceMap& map);
+/// The chosen map as the rest of a remesher uses it, whichever core made it.
+struct FinishedMap {
+  /// Its meta-mesh (side 0 the domain, side 1 the surface), valid from both
+  /// sides: for write_meta_mesh_output.
+  MetaMesh meta;
+  /// The surface point of a domain point (on side 1 of meta).
+  std::unique_ptr<DomainSurfaceSampler> sampler;
+  /// The measures over the counted faces, and the report's "map" section.
+  MapMeasures measures;
+  Json report;
+};
+
+/// The epilogue of the map stage, written once for every front end and
+/// core. Stage "validate": the map's own invariants (SurfaceMap::validate,
+/// InterSurfaceMap::validate), then its meta-mesh cut into pieces and
+/// validated from both sides; a violation throws Failure "<tool>: internal
+/// error, the map is invalid: <why>"; the report gets "meta_mesh" (valid,
+/// sizes). The measures are taken from those pieces over the faces f of side
+/// 1 with counted(side 1)[f] set (every face when `counted` is empty or
+/// returns an empty list). Then stage "sample" begins: the sampler is built
+/// from the same pieces (not cut again).
+FinishedMap finish_map(Run& run, const MapStageResult& staged, const DomainGeometry& domain,
+                       const std::function<std::vector<char>(const MetaSide&)>& counted = {});
 /// Writes the meta-mesh to settings.meta_mesh_path, if given (write_output).
 void write_meta_mesh_output(const Run& run, const MapSettings& settings, const MetaMesh& meta);
 
