@@ -294,19 +294,21 @@ FinishedMap finish_map(Run& run, const MapStageResult& staged, const DomainGeome
   const std::string invalid = run.tool_name() + ": internal error, the map is invalid: ";
   FinishedMap out;
   const SurfaceMap* map = staged.symmetric ? nullptr : staged.setup->map.get();
-  if (const auto problem = map ? map->validate() : staged.symmetric->validate())
-    throw Failure(invalid + *problem, Failure::Kind::internal);
   if (map) {
-    // The same map from both sides, independently of how SurfaceMap stores it.
+    // SurfaceMap's own invariants (meta_mesh checks them first), then the
+    // same map from both sides, independently of how SurfaceMap stores it.
     std::optional<MetaMesh> meta = meta_mesh(*map);
-    if (!meta) throw Failure(invalid + "it has no meta-mesh", Failure::Kind::internal);
+    if (!meta)
+      throw Failure(invalid + map->validate().value_or("it has no meta-mesh"),
+                    Failure::Kind::internal);
     out.meta = std::move(*meta);
   } else {
-    out.meta = staged.symmetric->meta();
+    out.meta = staged.symmetric->meta();  // (InterSurfaceMap::validate is validate(meta))
   }
+  // Cut and validated from both sides at once.
   auto pieces = meta_pieces(out.meta);
   if (!pieces)
-    throw Failure(invalid + "meta-mesh: " + validate(out.meta).value_or("?"),
+    throw Failure(invalid + (map ? "meta-mesh: " : "") + validate(out.meta).value_or("?"),
                   Failure::Kind::internal);
   report_meta_mesh(run, out.meta, *pieces);
   out.measures = measures(*pieces, counted ? counted(out.meta.side[1]) : std::vector<char>{});

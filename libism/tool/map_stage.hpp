@@ -175,9 +175,9 @@ struct FinishedMap {
 };
 
 /// The epilogue of the map stage, written once for every front end and
-/// core. Stage "validate": the map's own invariants (SurfaceMap::validate,
-/// InterSurfaceMap::validate), then its meta-mesh cut into pieces and
-/// validated from both sides; a violation throws Failure "<tool>: internal
+/// core. Stage "validate": SurfaceMap's own invariants (SurfaceMap::validate;
+/// InterSurfaceMap's are its meta-mesh's), then the meta-mesh cut into
+/// pieces and validated from both sides, once; a violation throws Failure "<tool>: internal
 /// error, the map is invalid: <why>"; the report gets "meta_mesh" (valid,
 /// sizes). The measures are taken from those pieces over the faces f of side
 /// 1 with counted(side 1)[f] set (every face when `counted` is empty or
