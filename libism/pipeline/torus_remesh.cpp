@@ -165,15 +165,15 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
       return s->position;
     });
   };
+  auto sample_meta = [&](const MetaMesh& meta) {
+    return sample_with(DomainSurfaceSampler(meta, domain));
+  };
   // (A variant's map that does not validate scores lowest; the epilogue
   // says why if it is kept.)
   auto sample = [&](const SurfaceMap& map) -> std::optional<TorusGrid> {
     const std::optional<MetaMesh> meta = meta_mesh(map);
     if (!meta) return std::nullopt;
-    return sample_with(DomainSurfaceSampler(*meta, domain));
-  };
-  auto sample_symmetric = [&](const MetaMesh& meta) {
-    return sample_with(DomainSurfaceSampler(meta, domain));
+    return sample_meta(*meta);
   };
   auto grid_score = [](const TorusGrid& grid) {
     return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
@@ -196,7 +196,7 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
              return s.energy_before - s.energy_after;
            },
        .symmetric_score =
-           [&](const InterSurfaceMap& map) { return grid_score(sample_symmetric(map.meta())); }},
+           [&](const InterSurfaceMap& map) { return grid_score(sample_meta(map.meta())); }},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
         RefineOptions coarse;

@@ -93,7 +93,6 @@ TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& n
 Progress& Run::stage(const std::string& name) {
   end_stage();
   stage_name_ = name;
-  if (std::getenv("ISM_PEAK")) std::fprintf(stderr, "PEAK before %s: %.1f MB\n", name.c_str(), peak_memory_bytes() / 1048576.0);
   stage_start_ = std::chrono::steady_clock::now();
   progress_.start(name);
   return progress_;
