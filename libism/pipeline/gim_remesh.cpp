@@ -154,7 +154,7 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
       run, staged, domain, [&](const MetaSide& s) { return input_faces.of(s.faces, s.positions); });
   const MetaMesh& meta = finished.meta;
   const MapMeasures& m = finished.measures;
-  const std::vector<char> on_input = input_faces.of(meta.side[1].faces, meta.side[1].positions);
+  const std::vector<char>& on_input = finished.counted;  // (empty on a closed surface)
   const std::vector<Triangle>& surface_faces = meta.side[1].faces;
   const std::vector<Vec3>& surface_positions = meta.side[1].positions;
   auto locate = [&](int f, const Eigen::Vector3d& b) {

@@ -311,7 +311,8 @@ FinishedMap finish_map(Run& run, const MapStageResult& staged, const DomainGeome
     throw Failure(invalid + (map ? "meta-mesh: " : "") + validate(out.meta).value_or("?"),
                   Failure::Kind::internal);
   report_meta_mesh(run, out.meta, *pieces);
-  out.measures = measures(*pieces, counted ? counted(out.meta.side[1]) : std::vector<char>{});
+  if (counted) out.counted = counted(out.meta.side[1]);
+  out.measures = measures(*pieces, out.counted);
   out.report = map ? map_report(*map, out.measures, staged.stats)
                    : map_report(*staged.symmetric, out.measures, staged.symmetric_stats);
   run.stage("sample");

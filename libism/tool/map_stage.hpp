@@ -169,6 +169,8 @@ struct FinishedMap {
   MetaMesh meta;
   /// The surface point of a domain point (on side 1 of meta).
   std::unique_ptr<DomainSurfaceSampler> sampler;
+  /// Per face of side 1, whether the measures count it (empty: every face).
+  std::vector<char> counted;
   /// The measures over the counted faces, and the report's "map" section.
   MapMeasures measures;
   Json report;
