@@ -189,17 +189,15 @@ std::vector<int> InterSurfaceMap::neighbours(int s, int v) const {
 }
 
 std::vector<int> InterSurfaceMap::others_in_ring(int s, int v) const {
-  std::vector<int> ring = neighbours(s, v), out;
-  ring.push_back(v);
+  std::vector<int> out;
   for (int f : index_[s].vertex_faces[v])
     for (int x : index_[s].residents[f]) out.push_back(x);
-  const MetaSide& other = meta_.side[1 - s];
-  for (std::size_t x = 0; x < other.n_vertices(); ++x) {
-    const MetaLocation& loc = other.location[x];
-    if (loc.face < 0 && loc.vertex >= 0 &&
-        std::find(ring.begin(), ring.end(), loc.vertex) != ring.end())
-      out.push_back(int(x));
-  }
+  // Those on a vertex of the ring or on v, in the other side's order.
+  const std::size_t inside = out.size();
+  for (int w : neighbours(s, v))
+    out.insert(out.end(), index_[s].lodgers[w].begin(), index_[s].lodgers[w].end());
+  out.insert(out.end(), index_[s].lodgers[v].begin(), index_[s].lodgers[v].end());
+  std::sort(out.begin() + std::ptrdiff_t(inside), out.end());
   return out;
 }
 
@@ -208,9 +206,15 @@ std::vector<int> InterSurfaceMap::others_in_ring(int s, int v) const {
 void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* edit) {
   MetaLocation& current = meta_.side[s].location[v];
   if (edit) edit->locations.push_back({s, v, current});
-  if (current.face >= 0) remove_resident(index_, s, v, current.face);
+  if (current.face >= 0)
+    remove_resident(index_, s, v, current.face);
+  else if (current.vertex >= 0)
+    remove_lodger(index_, s, v, current.vertex);
   current = loc;
-  if (current.face >= 0) add_resident(index_, s, v, current.face);
+  if (current.face >= 0)
+    add_resident(index_, s, v, current.face);
+  else if (current.vertex >= 0)
+    add_lodger(index_, s, v, current.vertex);
 }
 
 void InterSurfaceMap::set_breaks(int s, int e, std::vector<MetaCrossing> list, Edit* edit) {

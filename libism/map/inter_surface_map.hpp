@@ -209,7 +209,7 @@ class InterSurfaceMap {
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
   /// The other side's vertices located inside a face of v's one-ring or
-  /// on v or one of its neighbours. O(vertices of the other side).
+  /// on v or one of its neighbours (those on vertices in increasing order).
   std::vector<int> others_in_ring(int side, int v) const;
 
   /// The energy over every piece (symmetric stretch, paper §5.2, with the

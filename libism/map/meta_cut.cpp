@@ -37,6 +37,7 @@ MetaIndex build_index(const MetaMesh& meta) {
     ix.vertex_edges.assign(side.n_vertices(), {});
     ix.vertex_faces.assign(side.n_vertices(), {});
     ix.residents.assign(side.faces.size(), {});
+    ix.lodgers.assign(side.n_vertices(), {});
     ix.edge_of.reserve(side.edges.size());
     for (std::size_t e = 0; e < side.edges.size(); ++e) {
       const auto [u, v] = side.edges[e];
@@ -54,9 +55,11 @@ MetaIndex build_index(const MetaMesh& meta) {
   for (int s = 0; s < 2; ++s) {
     const MetaSide& other = meta.side[1 - s];
     for (std::size_t v = 0; v < other.n_vertices(); ++v) {
-      const int f = other.location[v].face;
+      const int f = other.location[v].face, x = other.location[v].vertex;
       if (f >= 0 && std::size_t(f) < index[s].residents.size())
         index[s].residents[f].push_back(int(v));
+      else if (f < 0 && x >= 0 && std::size_t(x) < index[s].lodgers.size())
+        index[s].lodgers[x].push_back(int(v));
     }
   }
   return index;
@@ -71,6 +74,15 @@ void remove_resident(MetaIndex& index, int side, int v, int face) {
   // Order kept (charts list a face's residents in it); a face of an
   // abstract domain holds thousands, so one search and one block move.
   auto& list = index[1 - side].residents[face];
+  if (auto it = std::find(list.begin(), list.end(), v); it != list.end()) list.erase(it);
+}
+
+void add_lodger(MetaIndex& index, int side, int v, int x) {
+  index[1 - side].lodgers[x].push_back(v);
+}
+
+void remove_lodger(MetaIndex& index, int side, int v, int x) {
+  auto& list = index[1 - side].lodgers[x];
   if (auto it = std::find(list.begin(), list.end(), v); it != list.end()) list.erase(it);
 }
 

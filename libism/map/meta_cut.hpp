@@ -31,6 +31,8 @@ struct MetaSideIndex {
   std::vector<std::vector<int>> vertex_faces;
   /// Per face: the vertices of the other side located inside it.
   std::vector<std::vector<int>> residents;
+  /// Per vertex: the vertices of the other side located on it.
+  std::vector<std::vector<int>> lodgers;
   /// Undirected edge key (undirected_edge_key) -> edge.
   std::unordered_map<std::uint64_t, int> edge_of;
 
@@ -47,6 +49,9 @@ MetaIndex build_index(const MetaMesh& meta);
 /// in that face's residents.
 void add_resident(MetaIndex& index, int side, int v, int face);
 void remove_resident(MetaIndex& index, int side, int v, int face);
+/// The same for v located on vertex x of the other side (its lodgers).
+void add_lodger(MetaIndex& index, int side, int v, int x);
+void remove_lodger(MetaIndex& index, int side, int v, int x);
 
 /// Where a meta-vertex lies on one side: on a vertex, on an edge (at
 /// parameter t from its first vertex) or inside a face (barycentric).
