@@ -31,21 +31,7 @@ echo
 echo "| k | efficiency | octahedron | flips | PSNR dB | map s |"
 echo "|---:|---:|---:|---:|---:|---:|"
 for ((k = 0; k < runs; ++k)); do
-  python3 - "$models_dir/$model.obj" "$work/$k.obj" "$k" <<'PY'
-import math, sys
-src, dst, k = sys.argv[1], sys.argv[2], int(sys.argv[3])
-lines = open(src).read().splitlines()
-points = [list(map(float, l.split()[1:4])) for l in lines if l.startswith("v ")]
-lo = [min(p[i] for p in points) for i in range(3)]
-hi = [max(p[i] for p in points) for i in range(3)]
-shift = k * 1e-9 * math.dist(lo, hi)
-with open(dst, "w") as out:
-    for l in lines:
-        if l.startswith("v "):
-            x, y, z = (float(c) + shift for c in l.split()[1:4])
-            l = f"v {x!r} {y!r} {z!r}"
-        out.write(l + "\n")
-PY
+  python3 "$root/bench/translate.py" "$models_dir/$model.obj" "$work/$k.obj" "$k"
   # shellcheck disable=SC2086
   "$bin/$tool" "$work/$k.obj" -o "$work/$k.$ext" --report "$work/$k.json" $args -q >/dev/null 2>&1 || true
 done
