@@ -25,6 +25,7 @@ struct ChartCell {
   std::vector<std::array<int, 3>> triangles;
   std::vector<Vec2> tri_chart, tri_other;
   Vec2 lo{0, 0}, hi{0, 0};  // bounding box of `chart` (set by make_chart_cell)
+  bool operator==(const ChartCell&) const = default;
 };
 
 /// The cell of these corners (same count, both counter-clockwise with

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -120,6 +121,9 @@ struct MapOperationStats {
   /// from their corners, which the move itself changes).
   std::size_t mispredicted = 0;
   double worst_prediction = 0;
+  /// Optimisations committed from a plan (InterSurfaceMap::VertexPlan):
+  /// the plan held, or the vertex was optimised anew.
+  std::size_t plans_held = 0, plans_stale = 0;
 };
 
 class InterSurfaceMap {
@@ -178,6 +182,33 @@ class InterSurfaceMap {
   /// others); kept only if the map stays valid and the energy drops.
   /// Returns the gain.
   double optimize_vertex(int side, int v);
+
+  /// An optimisation of one vertex worked out ahead (plan_vertex) and
+  /// applied later (commit_plan). Planning only reads the map: plans of
+  /// many vertices may be made concurrently, one per thread at a time,
+  /// while nothing edits the map. commit_plan builds the vertex's chart
+  /// again on the map as it is then and uses the planned place only if that
+  /// chart and the ring's energy are exactly the planned ones; otherwise it
+  /// optimises the vertex anew. Plans committed in some order therefore
+  /// give exactly what optimize_vertex in that order gives, whatever the
+  /// number of threads that made them. A plan is owned by its caller and
+  /// reusable (its storage kept).
+  struct VertexPlan {
+    struct State;
+    VertexPlan();
+    ~VertexPlan();
+    VertexPlan(VertexPlan&&) noexcept;
+    VertexPlan& operator=(VertexPlan&&) noexcept;
+    int side = -1, vertex = -1;
+    std::unique_ptr<State> state;
+  };
+  /// Plans the optimisation of v of `side` (const; see VertexPlan).
+  void plan_vertex(int side, int v, VertexPlan& plan) const;
+  /// Commits a plan: optimize_vertex(plan.side, plan.vertex), its search
+  /// skipped where the plan still holds. Returns the gain; last_chart() and
+  /// stats() as optimize_vertex leaves them (stats() also counts the plans
+  /// that held).
+  double commit_plan(VertexPlan& plan);
   /// The faces of side 1 around some of its vertices laid out in the chart
   /// of one face of side 0, or of two across the edge they share (the
   /// second unfolded), for the local re-embedding of a disc (paper §5.1;
@@ -265,6 +296,15 @@ class InterSurfaceMap {
   /// The chart of v's one-ring (false if the map there cannot be
   /// developed, which leaves v where it is).
   bool build_chart(int s, int v, Chart& chart) const;
+  /// optimize_vertex's search in a chart built on the map as it is, with
+  /// the ring's energy `before`: the place found (in `p`; false if none
+  /// below `before`), and whether Newton steps found it. Reads only the
+  /// chart and what moves do not change (connectivity, metrics, areas).
+  bool search_move(const Chart& chart, Layout& layout, double before, Vec2& p, bool& smooth) const;
+  /// optimize_vertex's end: the move to p proposed and committed.
+  double finish_move(const Chart& chart, Layout& layout, double before, const Vec2& p, bool smooth);
+  /// faces_energy without storing what it cuts (safe beside other readers).
+  double faces_energy_read(int s, const std::vector<int>& faces) const;
   /// The same with the ring starting at the face (v, start, *).
   /// (With `ring_only`, only the ring's faces, vertices and edges.)
   bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
@@ -383,8 +423,7 @@ class InterSurfaceMap {
   mutable std::array<std::vector<CachedSums>, 2> sums_cache_;
   std::array<std::uint64_t, 2> sums_stamp_{1, 1};
   bool check_cache_ = false;
-  mutable int chart_failure_ = 0;  // where the last chart failed (for diagnostics)
-  std::string last_refusal_;       // why the transaction last refused an edit (diagnostics)
+  std::string last_refusal_;  // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
   ChartKind last_chart_ = ChartKind::none;
 };

@@ -61,6 +61,7 @@ struct InterSurfaceMap::Chart {
   struct Anchor {
     MetaNode node;
     Vec2 pos;
+    bool operator==(const Anchor&) const = default;
   };
   std::vector<Anchor> anchors;
   std::vector<int> ring_anchor, boundary_loop, interior;
@@ -74,6 +75,7 @@ struct InterSurfaceMap::Chart {
     double ta, tb;  // parameters along the edge at a and b
     int first, last;
     Vec2 lo{0, 0}, hi{0, 0};  // box of its ends in the chart (set with the fragments)
+    bool operator==(const Chord&) const = default;
   };
   std::vector<Chord> chords;
   /// The cells of t's content in the chart (for locating moved vertices
@@ -86,6 +88,7 @@ struct InterSurfaceMap::Chart {
     /// stretch sums with others in the same face of s (StretchMoments).
     bool summable = false;
     StretchMoments moments;
+    bool operator==(const Fragment&) const = default;
   };
   std::vector<Fragment> fragments;
   /// A chart with at least this many fragments is large (a cone's ring
@@ -100,6 +103,9 @@ struct InterSurfaceMap::Chart {
   std::unordered_map<std::uint64_t, int> chord_of;
   /// The fragments whose map is not affine (where edges may bend), in order.
   std::vector<int> curved;
+  /// Every member equal (floating point values exactly): a chart built
+  /// again from the map gives the same optimisation (commit_plan).
+  bool operator==(const Chart&) const = default;
   /// Back to a default chart, keeping the lists' storage (a chart reused
   /// for vertex after vertex allocates little) unless they held a large
   /// chart (whose storage, tens of MB on a 70K-face surface, is released).
@@ -153,6 +159,17 @@ struct InterSurfaceMap::Layout {
   /// and a moved vertex to an edge of the other side: optional moves keep
   /// clear of near-degenerate pieces; a split must place its vertex.
   double clearance = 1e-6;
+};
+
+/// What plan_vertex found, for commit_plan.
+struct InterSurfaceMap::VertexPlan::State {
+  bool planned = false;  // plan_vertex ran (else commit_plan optimises anew)
+  bool charted = false;  // the chart was built
+  bool moves = false;    // the search found a place below the ring's energy
+  bool smooth = false;   // found by Newton steps (smooth_ring)
+  Chart chart;
+  double before = 0;  // the ring's energy
+  Vec2 p = Vec2::Zero();
 };
 
 }  // namespace ism

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -23,6 +24,11 @@ namespace ism {
 namespace {
 
 using Layout3 = std::array<Vec2, 3>;
+
+/// Where the last chart or evaluation on this thread failed (diagnostics
+/// for a split that cannot be placed; per thread, as plans are made on
+/// several).
+thread_local int chart_failure_ = 0;
 
 /// Barycentric coordinates kept inside the face (rounding), summing to 1.
 Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
@@ -1713,40 +1719,23 @@ bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
   return true;
 }
 
-double InterSurfaceMap::optimize_vertex(int s, int v) {
-  last_chart_ = ChartKind::none;
-  if (pinned_[s][v] || !is_active(s, v)) return 0.0;
-  // Per-thread scratch: the chart and layout keep their lists' storage
-  // from vertex to vertex (nothing here optimises a vertex re-entrantly).
-  thread_local Chart chart;
-  thread_local Layout layout;
-  if (!build_chart(s, v, chart)) return 0.0;
-  last_chart_ = chart.large()                    ? ChartKind::large
-                : chart.kind == Chart::fast      ? ChartKind::fast
-                : chart.kind == Chart::developed ? ChartKind::developed
-                                                 : ChartKind::general;
-  ++stats_.optimizations;
-  ++(chart.kind == Chart::fast        ? stats_.fast_path
-     : chart.kind == Chart::developed ? stats_.developed
-                                      : stats_.general);
+bool InterSurfaceMap::search_move(const Chart& chart, Layout& layout, double before, Vec2& p,
+                                  bool& smooth) const {
   const std::size_t m = chart.faces.size();
-  ring_layout(chart, layout);
-  const double before = faces_energy(s, chart.faces);
-  if (!(before < HUGE_VAL)) return 0.0;
-  auto energy = [&](const Vec2& p) {
-    layout.inner[0].pos = p;
+  auto energy = [&](const Vec2& x) {
+    layout.inner[0].pos = x;
     layout.inner[0].on_anchor =
-        chart.centre_anchor >= 0 && p == chart.centre ? chart.centre_anchor : -1;
+        chart.centre_anchor >= 0 && x == chart.centre ? chart.centre_anchor : -1;
     return evaluate(chart, layout, nullptr);
   };
   // A large chart's first round of line searches mostly ends above
   // `before` (re-laying the other side's content in a cone's chart, which
   // is not isometric, costs more than moving gains), and a second round
   // then almost never gets below it (results-two-surfaces.md, stop 40).
-  Vec2 p = chart.centre;
+  p = chart.centre;
   const std::vector<Vec2> kernel = boundary_polygon(chart, 0, m);
   thread_local std::vector<CornerStretch> corners;
-  const bool smooth = smooth_ring(chart, layout, corners);
+  smooth = smooth_ring(chart, layout, corners);
   if (smooth) {
     // The ring's energy is a sum of triangles whose other side is fixed:
     // Newton steps on its exact derivatives; the energy as evaluate
@@ -1757,9 +1746,14 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   } else {
     const double e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
                                         chart.large() ? before : HUGE_VAL);
-    if (!(e < before * (1 - 1e-12))) return 0.0;
+    if (!(e < before * (1 - 1e-12))) return false;
   }
-  if (p == chart.centre) return 0.0;
+  return p != chart.centre;
+}
+
+double InterSurfaceMap::finish_move(const Chart& chart, Layout& layout, double before,
+                                    const Vec2& p, bool smooth) {
+  const int s = chart.s;
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
   thread_local Proposal proposal;  // (its lists' storage kept; evaluate clears it)
@@ -1775,6 +1769,73 @@ double InterSurfaceMap::optimize_vertex(int s, int v) {
   stats_.mispredicted += off > 0.01;
   stats_.worst_prediction = std::max(stats_.worst_prediction, off);
   return *gain;
+}
+
+double InterSurfaceMap::optimize_vertex(int s, int v) {
+  VertexPlan unplanned;
+  unplanned.side = s, unplanned.vertex = v;
+  return commit_plan(unplanned);
+}
+
+InterSurfaceMap::VertexPlan::VertexPlan() = default;
+InterSurfaceMap::VertexPlan::~VertexPlan() = default;
+InterSurfaceMap::VertexPlan::VertexPlan(VertexPlan&&) noexcept = default;
+InterSurfaceMap::VertexPlan& InterSurfaceMap::VertexPlan::operator=(VertexPlan&&) noexcept =
+    default;
+
+void InterSurfaceMap::plan_vertex(int s, int v, VertexPlan& plan) const {
+  plan.side = s, plan.vertex = v;
+  if (!plan.state) plan.state = std::make_unique<VertexPlan::State>();
+  VertexPlan::State& st = *plan.state;
+  st.planned = true;
+  st.charted = st.moves = st.smooth = false;
+  if (pinned_[s][v] || !is_active(s, v)) return;
+  if (!build_chart(s, v, st.chart)) return;
+  st.charted = true;
+  thread_local Layout layout;
+  ring_layout(st.chart, layout);
+  st.before = faces_energy_read(s, st.chart.faces);
+  if (!(st.before < HUGE_VAL)) return;
+  st.moves = search_move(st.chart, layout, st.before, st.p, st.smooth);
+}
+
+double InterSurfaceMap::commit_plan(VertexPlan& plan) {
+  const int s = plan.side, v = plan.vertex;
+  last_chart_ = ChartKind::none;
+  if (pinned_[s][v] || !is_active(s, v)) return 0.0;
+  // Per-thread scratch: the chart and layout keep their lists' storage
+  // from vertex to vertex (nothing here optimises a vertex re-entrantly).
+  thread_local Chart chart;
+  thread_local Layout layout;
+  if (!build_chart(s, v, chart)) return 0.0;
+  last_chart_ = chart.large()                    ? ChartKind::large
+                : chart.kind == Chart::fast      ? ChartKind::fast
+                : chart.kind == Chart::developed ? ChartKind::developed
+                                                 : ChartKind::general;
+  ++stats_.optimizations;
+  ++(chart.kind == Chart::fast        ? stats_.fast_path
+     : chart.kind == Chart::developed ? stats_.developed
+                                      : stats_.general);
+  ring_layout(chart, layout);
+  const double before = faces_energy(s, chart.faces);
+  if (!(before < HUGE_VAL)) return 0.0;
+  VertexPlan::State* st = plan.state.get();
+  Vec2 p;
+  bool smooth = false;
+  const bool held = st && st->planned && st->charted && st->before == before && st->chart == chart;
+  if (st) {
+    st->planned = false;                         // (used once)
+    if (st->chart.large()) st->chart = Chart{};  // (a large chart's storage let go)
+  }
+  if (held) {
+    ++stats_.plans_held;
+    if (!st->moves) return 0.0;
+    p = st->p, smooth = st->smooth;
+  } else {
+    stats_.plans_stale += st != nullptr;
+    if (!search_move(chart, layout, before, p, smooth)) return 0.0;
+  }
+  return finish_move(chart, layout, before, p, smooth);
 }
 
 int InterSurfaceMap::add_edge(int s, int u, int v) {

@@ -60,12 +60,14 @@ struct Place {
   int index = -1;
   double t = 0;
   Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+  bool operator==(const Place&) const = default;
 };
 
 /// A meta-vertex: its key and where it lies on each side.
 struct MetaNode {
   NodeKey key;
   std::array<Place, 2> place;
+  bool operator==(const MetaNode&) const = default;
 };
 
 /// The meta-vertex of vertex v of `side`.
@@ -211,6 +213,7 @@ struct StretchMoments {
   /// m sums also by `m_weight`.
   void add(const StretchMoments& other, double share = 1, double m_weight = 1);
   std::array<double, 2> evaluate(const Eigen::Matrix2d& A) const;
+  bool operator==(const StretchMoments&) const = default;
 };
 
 /// The energy of stretch terms (of one triangle, or summed over many):

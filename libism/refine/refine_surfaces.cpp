@@ -3,10 +3,18 @@
 #include "refine/disc_relaxation.hpp"
 #include "refine/stopwatch.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -48,6 +56,12 @@ class Backoff {
     ++skipped_;
     return true;
   }
+  /// Whether skip(side, v) would skip v now (changes nothing).
+  bool would_skip(int side, int v) const {
+    if (std::size_t(v) >= failures_[side].size()) return false;
+    if (failures_[side][v] > 0 && gains_[side] == 0 && fails_[side] >= kGiveUpAfter) return true;
+    return left_[side][v] > 0;
+  }
   /// After an optimisation of v that ran: its chart was large, its gain.
   void record(int side, int v, bool large, double gain) {
     grow(side, v);
@@ -73,13 +87,78 @@ class Backoff {
   std::size_t skipped_ = 0;
 };
 
-/// Optimises v (unless the back-off, when given, skips it); the gain (the
-/// step reported when kept). Its time goes to `stats` by chart.
+/// Plans of the next vertices to optimise (SurfaceRefineOptions::threads),
+/// made concurrently from the map as it is; each is then committed in
+/// order by optimise(), which optimises anew where an earlier commit
+/// changed what the plan saw. The result is the same for any number of
+/// threads.
+class Planner {
+ public:
+  Planner(const InterSurfaceMap& map, const SurfaceRefineOptions& options)
+      : map_(map),
+        threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()) {
+    if (threads_ > 1 && threads_ != tbb::this_task_arena::max_concurrency())
+      arena_.emplace(threads_);
+  }
+  /// Whether plans are made (more than one thread).
+  bool on() const { return threads_ > 1; }
+  /// How many vertices a batch plans.
+  std::size_t batch() const { return kPerThread * std::size_t(threads_); }
+  /// Plans these (side, vertex), those the back-off will skip left
+  /// unplanned; plan(k) is the k-th.
+  void plan(std::span<const std::pair<int, int>> vertices, const Backoff* backoff,
+            SurfaceRefineStats& stats) {
+    const Stopwatch watch;
+    if (plans_.size() < vertices.size()) plans_.resize(vertices.size());
+    // Isolated: a thread waiting here takes no other work of the arena
+    // (e.g. another map variant's whole refinement).
+    auto work = [&] {
+      tbb::this_task_arena::isolate([&] {
+        // (One vertex a task: plans differ in cost by orders of magnitude.)
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, vertices.size(), 1),
+            [&](const tbb::blocked_range<std::size_t>& range) {
+              for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                const auto [side, v] = vertices[k];
+                auto& plan = plans_[k];
+                if (backoff && backoff->would_skip(side, v)) {
+                  plan = {};
+                  plan.side = side, plan.vertex = v;
+                  continue;
+                }
+                map_.plan_vertex(side, v, plan);
+              }
+            },
+            tbb::simple_partitioner());
+      });
+    };
+    if (arena_)
+      arena_->execute(work);
+    else
+      work();
+    stats.seconds_planning += watch.seconds();
+  }
+  InterSurfaceMap::VertexPlan& plan(std::size_t k) { return plans_[k]; }
+
+ private:
+  // Larger batches split the work more evenly, smaller ones see fewer of
+  // their plans' rings changed by earlier commits.
+  static constexpr std::size_t kPerThread = 16;
+  const InterSurfaceMap& map_;
+  int threads_;
+  std::optional<tbb::task_arena> arena_;
+  std::vector<InterSurfaceMap::VertexPlan> plans_;
+};
+
+/// Optimises v (unless the back-off, when given, skips it), through its
+/// plan when given; the gain (the step reported when kept). Its time goes
+/// to `stats` by chart.
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
-                Backoff* backoff, SurfaceRefineStats& stats) {
+                Backoff* backoff, SurfaceRefineStats& stats,
+                InterSurfaceMap::VertexPlan* plan = nullptr) {
   if (backoff && backoff->skip(side, v)) return 0.0;
   const Stopwatch watch;
-  const double g = map.optimize_vertex(side, v);
+  const double g = plan ? map.commit_plan(*plan) : map.optimize_vertex(side, v);
   const ChartKind chart = map.last_chart();
   stats.seconds_by_chart[std::size_t(chart)] += watch.seconds();
   if (backoff) backoff->record(side, v, chart == ChartKind::large, g);
@@ -87,12 +166,53 @@ double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int s
   return g;
 }
 
+/// The active vertices of a side by colour (a greedy colouring in index
+/// order: no two neighbours share one), each colour in index order.
+std::vector<int> colour_order(const InterSurfaceMap& map, int side) {
+  const std::size_t n = map.meta().side[side].n_vertices();
+  std::vector<int> colour(n, -1);
+  std::vector<char> taken;
+  int colours = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!map.is_active(side, int(v))) continue;
+    taken.assign(std::size_t(colours) + 1, 0);
+    for (int w : map.neighbours(side, int(v)))
+      if (colour[w] >= 0) taken[colour[w]] = 1;
+    int c = 0;
+    while (taken[c]) ++c;
+    colour[v] = c;
+    colours = std::max(colours, c + 1);
+  }
+  std::vector<int> order;
+  for (int c = 0; c < colours; ++c)
+    for (std::size_t v = 0; v < n; ++v)
+      if (colour[v] == c) order.push_back(int(v));
+  return order;
+}
+
 double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff,
              SurfaceRefineStats& stats) {
   double gain = 0;
-  for (int side = 0; side < 2; ++side)
-    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
-      if (map.is_active(side, int(v))) gain += optimise(map, options, side, int(v), backoff, stats);
+  Planner planner(map, options);
+  std::vector<std::pair<int, int>> batch;
+  for (int side = 0; side < 2; ++side) {
+    // Vertices of one colour (no two adjacent) next to each other: the
+    // rings of a batch planned together do not share faces, so an earlier
+    // commit seldom changes a later plan.
+    const std::vector<int> order = colour_order(map, side);
+    const std::size_t step = planner.on() ? planner.batch() : order.size();
+    for (std::size_t k0 = 0; k0 < order.size(); k0 += step) {
+      const std::size_t k1 = std::min(order.size(), k0 + step);
+      if (planner.on()) {
+        batch.clear();
+        for (std::size_t k = k0; k < k1; ++k) batch.push_back({side, order[k]});
+        planner.plan(batch, backoff, stats);
+      }
+      for (std::size_t k = k0; k < k1; ++k)
+        gain += optimise(map, options, side, order[k], backoff, stats,
+                         planner.on() ? &planner.plan(k - k0) : nullptr);
+    }
+  }
   return gain;
 }
 
@@ -127,11 +247,24 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   const double threshold = options.local_relaxation_gain * map.energy() / vertices;
   std::vector<int> gaining;  // moves of side 1 that gained, per vertex (with discs only)
   if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
+  // With plans: the queue's first entries planned together; committed as
+  // they come off the queue (new entries go to its back).
+  Planner planner(map, options);
+  std::vector<std::pair<int, int>> batch;
+  std::size_t next_plan = 0;
   for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
+    if (planner.on() && next_plan == batch.size()) {
+      batch.assign(queue.begin(),
+                   queue.begin() + std::ptrdiff_t(std::min(
+                                       {queue.size(), planner.batch(), max_moves - stats.moves})));
+      planner.plan(batch, backoff, timing);
+      next_plan = 0;
+    }
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
-    const double g = optimise(map, options, side, v, backoff, timing);
+    InterSurfaceMap::VertexPlan* plan = planner.on() ? &planner.plan(next_plan++) : nullptr;
+    const double g = optimise(map, options, side, v, backoff, timing, plan);
     stats.gain += g;
     if (!(g > threshold)) continue;
     for (int w : map.neighbours(side, v)) enqueue(side, w);
@@ -155,10 +288,11 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
 LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                       Backoff* backoff, SurfaceRefineStats& timing) {
   if (!(options.local_relaxation_budget > 0)) return {};
+  // (By colour, as a sweep: the queue's first entries planned together
+  // seldom share a face.)
   std::vector<std::pair<int, int>> all;
   for (int side = 0; side < 2; ++side)
-    for (std::size_t v = 0; v < map.meta().side[side].n_vertices(); ++v)
-      all.push_back({side, int(v)});
+    for (int v : colour_order(map, side)) all.push_back({side, v});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
                     backoff, timing);

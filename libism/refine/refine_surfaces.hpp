@@ -85,6 +85,10 @@ struct SurfaceRefineOptions {
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
+  /// Threads that plan the sweeps' and relaxation queues' optimisations
+  /// ahead (InterSurfaceMap::VertexPlan; 0: as many as the task arena has,
+  /// 1: none). The map refined is the same for every value.
+  int threads = 0;
   std::function<void(double)> progress;  // fraction of all splits done
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.
@@ -108,6 +112,9 @@ struct SurfaceRefineStats {
   double seconds = 0;
   std::array<double, kChartKinds> seconds_by_chart{};
   double seconds_splits = 0, seconds_discs = 0;
+  /// Wall seconds of planning optimisations on several threads (their
+  /// commits count by chart above).
+  double seconds_planning = 0;
 };
 
 /// Refines both sides to full resolution. Throws std::runtime_error (from

@@ -250,6 +250,11 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               s.seconds_by_chart[k];
         t["splits"] = s.seconds_splits;
         t["discs"] = s.seconds_discs;
+        // (Wall time of the optimisations planned ahead on several threads;
+        // their commits count by chart.)
+        t["planning"] = s.seconds_planning;
+        const MapOperationStats& o = result.symmetric->stats();
+        v["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
       } else {
         v["seconds_refine"] = result.stats.seconds;
       }

@@ -21,7 +21,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace ism {
 namespace {
@@ -359,6 +364,65 @@ TEST(RefineSurfaces, HardSplitsAreRelaxedSoACreasedModelCompletes) {
   EXPECT_GT(efficiency, 0.75);  // 0.7865 when written
   std::printf("fandisk, equilateral octahedron: %zu hard splits, symmetric efficiency %.4f\n",
               stats.hard_splits, efficiency);
+}
+
+/// The bytes of a map's meta-mesh file.
+std::string meta_mesh_bytes(const InterSurfaceMap& map, const std::string& name) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  EXPECT_TRUE(write_meta_mesh(map.meta(), path));
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(path);
+  return bytes;
+}
+
+// Sweeps and relaxation queues planned on several threads
+// (SurfaceRefineOptions::threads, InterSurfaceMap::VertexPlan) refine to
+// the very map one thread refines to, byte for byte: two surfaces both
+// refining, and the remeshers' case (a resumed blob over the octahedron,
+// large charts backed off, discs re-embedded). Most plans hold; the
+// rest were optimised anew because an earlier commit changed their ring.
+TEST(RefineSurfaces, PlansOnSeveralThreadsGiveTheMapOneThreadGives) {
+  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
+  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  const auto [pm, domain, meta, applied] = resumed_blob();
+  ASSERT_TRUE(meta);
+  for (const bool remesher : {false, true}) {
+    std::vector<std::string> files;
+    std::vector<double> energies;
+    for (const int threads : {1, 2, 3}) {
+      InterSurfaceMap map =
+          remesher ? InterSurfaceMap(*meta, side_from_domain(domain, pm), side_from_pm(pm), applied)
+                   : InterSurfaceMap(side_from_pm(pa), side_from_pm(pb));
+      SurfaceRefineOptions options;
+      options.threads = threads;
+      if (remesher) {
+        options.large_chart_backoff = true;
+        options.local_disc_every = 2;
+      }
+      const SurfaceRefineStats stats = refine_surfaces(map, options);
+      ASSERT_FALSE(map.validate()) << threads << " threads";
+      const MapOperationStats& o = map.stats();
+      if (threads == 1) {
+        EXPECT_EQ(o.plans_held + o.plans_stale, 0u);
+        EXPECT_EQ(stats.seconds_planning, 0.0);
+      } else {
+        EXPECT_GT(o.plans_held, 2 * o.plans_stale) << threads << " threads";
+      }
+      files.push_back(meta_mesh_bytes(map, "ism_plans_" + std::to_string(threads) + ".meta"));
+      energies.push_back(map.energy());
+      std::printf("%s, %d thread(s): energy %.17g; plans held %zu, optimised anew %zu\n",
+                  remesher ? "blob over the octahedron" : "sphere / blob", threads, map.energy(),
+                  o.plans_held, o.plans_stale);
+    }
+    EXPECT_FALSE(files[0].empty());
+    for (std::size_t k = 1; k < files.size(); ++k) {
+      EXPECT_EQ(energies[k], energies[0]);
+      EXPECT_TRUE(files[k] == files[0]) << "the meta-mesh of " << k + 1 << " threads differs";
+    }
+  }
 }
 
 }  // namespace
