@@ -6,7 +6,7 @@
 //   inter_surface_map [A.obj B.obj [--pairs P.txt] [--decimate V]] [--faces N]
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
-//                     [--local-budget B] [--kinks RULE] [--threads N]
+//                     [--local-budget B] [--kinks RULE] [--threads N] [--split-batch K]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -23,7 +23,9 @@
 // not affine).
 // --threads N plans the sweeps' optimisations on N threads
 // (SurfaceRefineOptions::threads; 0, the default: all; 1: none). The map is
-// the same for every N.
+// the same for every N. --split-batch K makes K splits in a row before
+// optimising their new rings together (SurfaceRefineOptions::split_batch;
+// default 1: after every split).
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines appear as stages end
   std::vector<std::string> files;
   std::string pairs_file, meta_file;
-  int faces = 1000, threads = 0;
+  int faces = 1000, threads = 0, split_batch = 0;
   std::size_t decimate = 0;
   bool each = false, trace = false;
   int level_sweeps = -1, final_sweeps = -1;
@@ -86,6 +88,8 @@ int main(int argc, char** argv) {
       pairs_file = argv[++i];
     else if (std::strcmp(argv[i], "--meta-mesh") == 0 && i + 1 < argc)
       meta_file = argv[++i];
+    else if (std::strcmp(argv[i], "--split-batch") == 0 && i + 1 < argc)
+      split_batch = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
       threads = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--decimate") == 0 && i + 1 < argc)
@@ -144,6 +148,7 @@ int main(int argc, char** argv) {
   options.validate_each_step = each;
   options.block = block;
   options.threads = threads;
+  if (split_batch > 0) options.split_batch = std::size_t(split_batch);
   if (local_budget >= 0) options.local_relaxation_budget = local_budget;
   options.optimise_other_side = other_side;
   if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;

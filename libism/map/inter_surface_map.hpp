@@ -268,6 +268,7 @@ class InterSurfaceMap {
   struct Layout;
   struct Edit;
   struct Proposal;
+  struct Move;
   /// What a split's connectivity change overwrites (to undo it).
   struct SplitUndo {
     struct VertexLists {
@@ -296,11 +297,11 @@ class InterSurfaceMap {
   /// The chart of v's one-ring (false if the map there cannot be
   /// developed, which leaves v where it is).
   bool build_chart(int s, int v, Chart& chart) const;
-  /// optimize_vertex's search in a chart built on the map as it is, with
-  /// the ring's energy `before`: the place found (in `p`; false if none
-  /// below `before`), and whether Newton steps found it. Reads only the
-  /// chart and what moves do not change (connectivity, metrics, areas).
-  bool search_move(const Chart& chart, Layout& layout, double before, Vec2& p, bool& smooth) const;
+  /// optimize_vertex's search in a chart built on the map as it is (line
+  /// searches given up after a round that ends above `give_up_above`).
+  /// Reads only the chart and what moves do not change (connectivity,
+  /// metrics, areas).
+  Move search_move(const Chart& chart, Layout& layout, double give_up_above) const;
   /// optimize_vertex's end: the move to p proposed and committed.
   double finish_move(const Chart& chart, Layout& layout, double before, const Vec2& p, bool smooth);
   /// faces_energy without storing what it cuts (safe beside other readers).

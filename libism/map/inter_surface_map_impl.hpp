@@ -161,15 +161,22 @@ struct InterSurfaceMap::Layout {
   double clearance = 1e-6;
 };
 
+/// What optimize_vertex's search found in a chart.
+struct InterSurfaceMap::Move {
+  Vec2 p = Vec2::Zero();
+  double energy = HUGE_VAL;  // the chart's energy there (line searches only)
+  bool smooth = false;       // found by Newton steps (smooth_ring)
+  /// Whether it is a move that lowers the ring's energy `before`.
+  bool gains(const Chart& chart, double before) const;
+};
+
 /// What plan_vertex found, for commit_plan.
 struct InterSurfaceMap::VertexPlan::State {
   bool planned = false;  // plan_vertex ran (else commit_plan optimises anew)
   bool charted = false;  // the chart was built
-  bool moves = false;    // the search found a place below the ring's energy
-  bool smooth = false;   // found by Newton steps (smooth_ring)
   Chart chart;
-  double before = 0;  // the ring's energy
-  Vec2 p = Vec2::Zero();
+  double before = 0;  // the ring's energy (large charts only)
+  Move move;
 };
 
 }  // namespace ism

@@ -1719,8 +1719,10 @@ bool InterSurfaceMap::smooth_ring(const Chart& chart, const Layout& layout,
   return true;
 }
 
-bool InterSurfaceMap::search_move(const Chart& chart, Layout& layout, double before, Vec2& p,
-                                  bool& smooth) const {
+InterSurfaceMap::Move InterSurfaceMap::search_move(const Chart& chart, Layout& layout,
+                                                   double give_up_above) const {
+  Move move;
+  Vec2& p = move.p;
   const std::size_t m = chart.faces.size();
   auto energy = [&](const Vec2& x) {
     layout.inner[0].pos = x;
@@ -1728,15 +1730,15 @@ bool InterSurfaceMap::search_move(const Chart& chart, Layout& layout, double bef
         chart.centre_anchor >= 0 && x == chart.centre ? chart.centre_anchor : -1;
     return evaluate(chart, layout, nullptr);
   };
-  // A large chart's first round of line searches mostly ends above
-  // `before` (re-laying the other side's content in a cone's chart, which
+  // (give_up_above: a large chart's first round of line searches mostly
+  // ends above the ring's energy (re-laying the other side's content in a cone's chart, which
   // is not isometric, costs more than moving gains), and a second round
-  // then almost never gets below it (results-two-surfaces.md, stop 40).
+  // then almost never gets below it: results-two-surfaces.md, stop 40.)
   p = chart.centre;
   const std::vector<Vec2> kernel = boundary_polygon(chart, 0, m);
   thread_local std::vector<CornerStretch> corners;
-  smooth = smooth_ring(chart, layout, corners);
-  if (smooth) {
+  move.smooth = smooth_ring(chart, layout, corners);
+  if (move.smooth) {
     // The ring's energy is a sum of triangles whose other side is fixed:
     // Newton steps on its exact derivatives; the energy as evaluate
     // defines it comes with the proposal below.
@@ -1744,10 +1746,14 @@ bool InterSurfaceMap::search_move(const Chart& chart, Layout& layout, double bef
       return corners_energy(corners, x, gradient, hessian);
     });
   } else {
-    const double e = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic,
-                                        chart.large() ? before : HUGE_VAL);
-    if (!(e < before * (1 - 1e-12))) return false;
+    move.energy = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic, give_up_above);
   }
+  return move;
+}
+
+bool InterSurfaceMap::Move::gains(const Chart& chart, double before) const {
+  // (Newton steps stop where the ring's exact energy stops dropping.)
+  if (!smooth && !(energy < before * (1 - 1e-12))) return false;
   return p != chart.centre;
 }
 
@@ -1788,15 +1794,17 @@ void InterSurfaceMap::plan_vertex(int s, int v, VertexPlan& plan) const {
   if (!plan.state) plan.state = std::make_unique<VertexPlan::State>();
   VertexPlan::State& st = *plan.state;
   st.planned = true;
-  st.charted = st.moves = st.smooth = false;
+  st.charted = false;
   if (pinned_[s][v] || !is_active(s, v)) return;
   if (!build_chart(s, v, st.chart)) return;
   st.charted = true;
   thread_local Layout layout;
   ring_layout(st.chart, layout);
-  st.before = faces_energy_read(s, st.chart.faces);
+  // Only a large chart's search needs the ring's energy (the commit has it
+  // from the cache of committed faces, which planning cannot fill).
+  st.before = st.chart.large() ? faces_energy_read(s, st.chart.faces) : 0.0;
   if (!(st.before < HUGE_VAL)) return;
-  st.moves = search_move(st.chart, layout, st.before, st.p, st.smooth);
+  st.move = search_move(st.chart, layout, st.chart.large() ? st.before : HUGE_VAL);
 }
 
 double InterSurfaceMap::commit_plan(VertexPlan& plan) {
@@ -1820,22 +1828,22 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   const double before = faces_energy(s, chart.faces);
   if (!(before < HUGE_VAL)) return 0.0;
   VertexPlan::State* st = plan.state.get();
-  Vec2 p;
-  bool smooth = false;
-  const bool held = st && st->planned && st->charted && st->before == before && st->chart == chart;
+  const bool held = st && st->planned && st->charted && st->chart == chart &&
+                    (!chart.large() || st->before == before);
   if (st) {
     st->planned = false;                         // (used once)
     if (st->chart.large()) st->chart = Chart{};  // (a large chart's storage let go)
   }
+  Move move;
   if (held) {
     ++stats_.plans_held;
-    if (!st->moves) return 0.0;
-    p = st->p, smooth = st->smooth;
+    move = st->move;
   } else {
     stats_.plans_stale += st != nullptr;
-    if (!search_move(chart, layout, before, p, smooth)) return 0.0;
+    move = search_move(chart, layout, chart.large() ? before : HUGE_VAL);
   }
-  return finish_move(chart, layout, before, p, smooth);
+  if (!move.gains(chart, before)) return 0.0;
+  return finish_move(chart, layout, before, move.p, move.smooth);
 }
 
 int InterSurfaceMap::add_edge(int s, int u, int v) {

@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdio>
-#include <cstdlib>
 #include <deque>
 #include <optional>
 #include <span>
@@ -96,12 +96,14 @@ class Planner {
  public:
   Planner(const InterSurfaceMap& map, const SurfaceRefineOptions& options)
       : map_(map),
-        threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()) {
+        threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()),
+        side_by_side_(options.side_by_side) {
     if (threads_ > 1 && threads_ != tbb::this_task_arena::max_concurrency())
       arena_.emplace(threads_);
   }
-  /// Whether plans are made (more than one thread).
-  bool on() const { return threads_ > 1; }
+  /// Whether plans are made now: more than one thread, and fewer
+  /// refinements running side by side than threads.
+  bool on() const { return threads_ > 1 && !(side_by_side_ && side_by_side_->load() >= threads_); }
   /// How many vertices a batch plans.
   std::size_t batch() const { return kPerThread * std::size_t(threads_); }
   /// Plans these (side, vertex), those the back-off will skip left
@@ -146,6 +148,7 @@ class Planner {
   static constexpr std::size_t kPerThread = 16;
   const InterSurfaceMap& map_;
   int threads_;
+  const std::atomic<int>* side_by_side_;
   std::optional<tbb::task_arena> arena_;
   std::vector<InterSurfaceMap::VertexPlan> plans_;
 };
@@ -166,53 +169,85 @@ double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int s
   return g;
 }
 
-/// The active vertices of a side by colour (a greedy colouring in index
-/// order: no two neighbours share one), each colour in index order.
-std::vector<int> colour_order(const InterSurfaceMap& map, int side) {
+/// Vertices of one side grouped by colour: a greedy colouring of the
+/// active ones (each once) in the order given, in which no two neighbours
+/// share a colour; each colour in the order given.
+struct Coloured {
+  std::vector<int> order;
+  std::vector<std::size_t> starts;  // where each colour starts in `order`, then its size
+};
+Coloured by_colour(const InterSurfaceMap& map, int side, const std::vector<int>& vertices) {
   const std::size_t n = map.meta().side[side].n_vertices();
-  std::vector<int> colour(n, -1);
+  std::vector<int> colour(n, -1), seen;
   std::vector<char> taken;
-  int colours = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    if (!map.is_active(side, int(v))) continue;
-    taken.assign(std::size_t(colours) + 1, 0);
-    for (int w : map.neighbours(side, int(v)))
+  std::vector<std::size_t> count;
+  for (const int v : vertices) {
+    if (!map.is_active(side, v) || colour[v] >= 0) continue;
+    taken.assign(count.size() + 1, 0);
+    for (int w : map.neighbours(side, v))
       if (colour[w] >= 0) taken[colour[w]] = 1;
     int c = 0;
     while (taken[c]) ++c;
     colour[v] = c;
-    colours = std::max(colours, c + 1);
+    if (std::size_t(c) == count.size()) count.push_back(0);
+    ++count[c];
+    seen.push_back(v);
   }
-  std::vector<int> order;
-  for (int c = 0; c < colours; ++c)
-    for (std::size_t v = 0; v < n; ++v)
-      if (colour[v] == c) order.push_back(int(v));
-  return order;
+  Coloured out;
+  out.starts.assign(count.size() + 1, 0);
+  for (std::size_t c = 0; c < count.size(); ++c) out.starts[c + 1] = out.starts[c] + count[c];
+  out.order.resize(seen.size());
+  std::vector<std::size_t> next(out.starts.begin(), out.starts.end() - 1);
+  for (const int v : seen) out.order[next[colour[v]]++] = v;
+  return out;
 }
 
-double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff,
-             SurfaceRefineStats& stats) {
+/// The active vertices of a side by colour (by_colour of them in index order).
+Coloured colour_order(const InterSurfaceMap& map, int side) {
+  std::vector<int> all(map.meta().side[side].n_vertices());
+  for (std::size_t v = 0; v < all.size(); ++v) all[v] = int(v);
+  return by_colour(map, side, all);
+}
+
+/// Optimises these vertices of a side colour after colour; with the
+/// planner on, each colour in batches planned ahead (no two of a batch
+/// neighbours, so a commit seldom changes a later plan of its batch). The
+/// energy gained.
+double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side,
+                          const Coloured& coloured, Planner& planner, Backoff* backoff,
+                          SurfaceRefineStats& stats) {
   double gain = 0;
-  Planner planner(map, options);
   std::vector<std::pair<int, int>> batch;
-  for (int side = 0; side < 2; ++side) {
-    // Vertices of one colour (no two adjacent) next to each other: the
-    // rings of a batch planned together do not share faces, so an earlier
-    // commit seldom changes a later plan.
-    const std::vector<int> order = colour_order(map, side);
-    const std::size_t step = planner.on() ? planner.batch() : order.size();
-    for (std::size_t k0 = 0; k0 < order.size(); k0 += step) {
-      const std::size_t k1 = std::min(order.size(), k0 + step);
-      if (planner.on()) {
+  const auto& order = coloured.order;
+  for (std::size_t c = 0; c + 1 < coloured.starts.size(); ++c) {
+    const std::size_t end = coloured.starts[c + 1];
+    for (std::size_t k0 = coloured.starts[c]; k0 < end;) {
+      const bool planning = planner.on();
+      const std::size_t k1 = std::min(end, k0 + planner.batch());
+      if (planning) {
         batch.clear();
         for (std::size_t k = k0; k < k1; ++k) batch.push_back({side, order[k]});
         planner.plan(batch, backoff, stats);
       }
       for (std::size_t k = k0; k < k1; ++k)
         gain += optimise(map, options, side, order[k], backoff, stats,
-                         planner.on() ? &planner.plan(k - k0) : nullptr);
+                         planning ? &planner.plan(k - k0) : nullptr);
+      k0 = k1;
     }
   }
+  return gain;
+}
+
+double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff,
+             SurfaceRefineStats& stats) {
+  // Vertices of one colour (no two adjacent) next to each other: the rings
+  // of a batch planned together do not share faces, so an earlier commit
+  // seldom changes a later plan.
+  Planner planner(map, options);
+  double gain = 0;
+  for (int side = 0; side < 2; ++side)
+    gain +=
+        optimise_by_colour(map, options, side, colour_order(map, side), planner, backoff, stats);
   return gain;
 }
 
@@ -252,18 +287,23 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   Planner planner(map, options);
   std::vector<std::pair<int, int>> batch;
   std::size_t next_plan = 0;
+  bool planning = false;
   for (; !queue.empty() && stats.moves < max_moves; ++stats.moves) {
-    if (planner.on() && next_plan == batch.size()) {
-      batch.assign(queue.begin(),
-                   queue.begin() + std::ptrdiff_t(std::min(
-                                       {queue.size(), planner.batch(), max_moves - stats.moves})));
-      planner.plan(batch, backoff, timing);
+    if (next_plan == batch.size()) {
+      batch.clear();
       next_plan = 0;
+      planning = planner.on();
+      if (planning) {
+        batch.assign(queue.begin(),
+                     queue.begin() + std::ptrdiff_t(std::min({queue.size(), planner.batch(),
+                                                              max_moves - stats.moves})));
+        planner.plan(batch, backoff, timing);
+      }
     }
     const auto [side, v] = queue.front();
     queue.pop_front();
     queued[side][v] = 0;
-    InterSurfaceMap::VertexPlan* plan = planner.on() ? &planner.plan(next_plan++) : nullptr;
+    InterSurfaceMap::VertexPlan* plan = planning ? &planner.plan(next_plan++) : nullptr;
     const double g = optimise(map, options, side, v, backoff, timing, plan);
     stats.gain += g;
     if (!(g > threshold)) continue;
@@ -292,7 +332,7 @@ LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineO
   // seldom share a face.)
   std::vector<std::pair<int, int>> all;
   for (int side = 0; side < 2; ++side)
-    for (int v : colour_order(map, side)) all.push_back({side, v});
+    for (int v : colour_order(map, side).order) all.push_back({side, v});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
                     backoff, timing);
@@ -332,49 +372,69 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   std::size_t last_sweep = map.n_vertices(0) + map.n_vertices(1);
   int side = fraction(0) <= fraction(1) ? 0 : 1;
   std::size_t in_block = 0;
+  Planner planner(map, options);
+  struct Split {
+    int side, vs;
+    bool hard;  // its growth above options.hard_split_growth
+  };
+  std::vector<Split> splits;
   for (;;) {
     if (fraction(0) >= 1 && fraction(1) >= 1) break;
-    if (in_block >= options.block || fraction(side) >= 1) {
-      side = fraction(0) <= fraction(1) ? 0 : 1;
-      in_block = 0;
+    // A batch of splits, then their new rings optimised together (by
+    // colour, planned ahead), then the other side's vertices inside them.
+    splits.clear();
+    std::array<std::vector<int>, 2> rings, others;
+    bool level = false;
+    while (!level && splits.size() < std::max<std::size_t>(options.split_batch, 1) &&
+           (fraction(0) < 1 || fraction(1) < 1)) {
+      if (in_block >= options.block || fraction(side) >= 1) {
+        side = fraction(0) <= fraction(1) ? 0 : 1;
+        in_block = 0;
+      }
+      const Stopwatch split_watch;
+      const int vs = map.split_next(side);
+      stats.seconds_splits += split_watch.seconds();
+      ++in_block;
+      ++stats.splits;
+      after(map, options, {SurfaceStep::split, side, vs, 0.0});
+      splits.push_back({side, vs, map.last_split_growth() > options.hard_split_growth});
+      for (int v : map.neighbours(side, vs)) rings[side].push_back(v);
+      rings[side].push_back(vs);
+      const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
+      level = double(total) >= options.sweep_growth * double(last_sweep);
+      if (options.progress && total_splits)
+        options.progress(double(stats.splits) / double(total_splits));
     }
-    const Stopwatch split_watch;
-    const int vs = map.split_next(side);
-    stats.seconds_splits += split_watch.seconds();
-    ++in_block;
-    ++stats.splits;
-    after(map, options, {SurfaceStep::split, side, vs, 0.0});
-    std::vector<int> todo = map.neighbours(side, vs);
-    todo.push_back(vs);
-    std::vector<std::pair<int, int>> region;
-    for (int v : todo) {
-      optimise(map, options, side, v, backoff, stats);
-      region.push_back({side, v});
+    for (int s = 0; s < 2; ++s)
+      optimise_by_colour(map, options, s, by_colour(map, s, rings[s]), planner, backoff, stats);
+    if (options.optimise_other_side) {
+      for (const Split& split : splits)
+        for (int x : map.others_in_ring(split.side, split.vs)) others[1 - split.side].push_back(x);
+      for (int s = 0; s < 2; ++s)
+        optimise_by_colour(map, options, s, by_colour(map, s, others[s]), planner, backoff, stats);
     }
-    if (options.optimise_other_side)
-      for (int x : map.others_in_ring(side, vs))
-        if (map.is_active(1 - side, x)) {
-          optimise(map, options, 1 - side, x, backoff, stats);
-          region.push_back({1 - side, x});
-        }
-    if (map.last_split_growth() > options.hard_split_growth) {
+    for (const Split& split : splits) {
+      if (!split.hard) continue;
       ++stats.hard_splits;
-      if (options.hard_split_relaxation > 0)
-        add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff,
-                       stats));
+      if (!(options.hard_split_relaxation > 0)) continue;
+      std::vector<std::pair<int, int>> region;
+      for (int v : map.neighbours(split.side, split.vs)) region.push_back({split.side, v});
+      region.push_back({split.side, split.vs});
+      if (options.optimise_other_side)
+        for (int x : map.others_in_ring(split.side, split.vs))
+          if (map.is_active(1 - split.side, x)) region.push_back({1 - split.side, x});
+      add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff,
+                     stats));
     }
-    const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
-    if (double(total) >= options.sweep_growth * double(last_sweep)) {
+    if (level) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
         if (sweep(map, options, backoff, stats) < 1e-3 * e) break;
       }
       add(local_relaxation(map, options, backoff, stats));
-      last_sweep = total;
+      last_sweep = map.n_vertices(0) + map.n_vertices(1);
     }
-    if (options.progress && total_splits)
-      options.progress(double(stats.splits) / double(total_splits));
   }
   if (options.before_final) {
     ++stats.global_steps;

@@ -2,8 +2,10 @@
 // Coarse-to-fine refinement of an InterSurfaceMap on both sides (paper §5):
 // the vertex splits of both progressive meshes are replayed, the side that
 // is less refined (as a fraction of its splits) next, so both reach full
-// resolution together; after each split the new vertex and its neighbours
-// are optimised (after a hard split, the relaxation queue from them);
+// resolution together; after each batch of splits (split_batch) the new
+// vertices and their neighbours are optimised, then the other side's
+// vertices inside their rings (after a hard split, the relaxation queue
+// from them);
 // whenever the vertices of both sides together have grown by
 // `sweep_growth`, every vertex of both sides is; final sweeps at full
 // resolution until the relative gain is small.
@@ -11,6 +13,7 @@
 #include "refine/refine.hpp"
 
 #include <array>
+#include <atomic>
 #include <functional>
 #include <string>
 
@@ -85,10 +88,21 @@ struct SurfaceRefineOptions {
   /// validate() after every operation (for tests; slow). Throws
   /// std::runtime_error naming the operation that broke the map.
   bool validate_each_step = false;
-  /// Threads that plan the sweeps' and relaxation queues' optimisations
-  /// ahead (InterSurfaceMap::VertexPlan; 0: as many as the task arena has,
-  /// 1: none). The map refined is the same for every value.
+  /// Splits made in a row before their new rings are optimised (together,
+  /// by colour, planned ahead on `threads`); 1: after every split, as the
+  /// paper does. (8 spreads more of the work over the threads, but moved
+  /// the two-surface pairs' medians down: results-two-surfaces.md, stop 61.)
+  std::size_t split_batch = 8;
+  /// Threads that plan vertex optimisations ahead (InterSurfaceMap::VertexPlan:
+  /// the sweeps', the split batches' and the relaxation queues'; 0: as many
+  /// as the task arena has, 1: none). The map refined is the same for every
+  /// value.
   int threads = 0;
+  /// When given: how many refinements run side by side now (e.g. map
+  /// variants on the same cores); plans are made only while they are fewer
+  /// than the threads (planning then costs more than it saves). The map is
+  /// the same either way.
+  const std::atomic<int>* side_by_side = nullptr;
   std::function<void(double)> progress;  // fraction of all splits done
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.

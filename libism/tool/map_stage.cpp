@@ -6,6 +6,7 @@
 
 #include <tbb/task_group.h>
 
+#include <atomic>
 #include <chrono>
 #include <exception>
 #include <functional>
@@ -68,7 +69,7 @@ namespace {
 // moves place the cones), is resumed as an InterSurfaceMap and refined on.
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
                       const std::function<void(double)>& progress, const MapStage& stage,
-                      const MapSettings& settings) {
+                      const MapSettings& settings, std::atomic<int>& side_by_side) {
   SurfaceMap& coarse = *result.setup->map;
   if (coarse.n_vertices() < stage.symmetric_from_vertices) {
     RefineOptions options;
@@ -97,11 +98,17 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   // The cones are placed: their large charts are retried less and less.
   refine_options.large_chart_backoff = true;
   refine_options.before_final = stage.symmetric_before_final;
+  // Variants refined side by side already keep the cores busy: plans only
+  // once fewer than the threads are left.
+  refine_options.side_by_side = &side_by_side;
+  ++side_by_side;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
   } catch (const std::exception& e) {
+    --side_by_side;
     throw std::runtime_error(describe_stop(*result.symmetric, e.what()));
   }
+  --side_by_side;
 }
 
 }  // namespace
@@ -122,6 +129,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     double seconds = 0;
   };
   std::vector<Outcome> outcomes;
+  std::atomic<int> side_by_side{0};  // symmetric refinements running
   auto run_round = [&](std::size_t first, std::size_t last) {
     outcomes.resize(last * contenders);
     tbb::task_group group;
@@ -155,7 +163,8 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               std::function<void(double)> report_progress;
               if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
               if (settings.core == MapCore::symmetric) {
-                refine_symmetric(out.result, all[i], report_progress, stage, settings);
+                refine_symmetric(out.result, all[i], report_progress, stage, settings,
+                                 side_by_side);
                 const InterSurfaceMap& map = *out.result.symmetric;
                 out.measures = map.measures();
                 out.score = stage.symmetric_score ? stage.symmetric_score(map)
