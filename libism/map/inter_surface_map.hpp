@@ -188,8 +188,9 @@ class InterSurfaceMap {
   /// many vertices may be made concurrently, one per thread at a time,
   /// while nothing edits the map. commit_plan builds the vertex's chart
   /// again on the map as it is then and uses the planned place only if that
-  /// chart and the ring's energy are exactly the planned ones; otherwise it
-  /// optimises the vertex anew. Plans committed in some order therefore
+  /// chart is exactly the planned one (and, for a large chart, whose search
+  /// depends on it, the ring's energy too); otherwise it optimises the
+  /// vertex anew. Plans committed in some order therefore
   /// give exactly what optimize_vertex in that order gives, whatever the
   /// number of threads that made them. A plan is owned by its caller and
   /// reusable (its storage kept).
@@ -297,6 +298,9 @@ class InterSurfaceMap {
   /// The chart of v's one-ring (false if the map there cannot be
   /// developed, which leaves v where it is).
   bool build_chart(int s, int v, Chart& chart) const;
+  /// The same with the ring starting at the face (v, start, *).
+  /// (With `ring_only`, only the ring's faces, vertices and edges.)
+  bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
   /// optimize_vertex's search in a chart built on the map as it is (line
   /// searches given up after a round that ends above `give_up_above`).
   /// Reads only the chart and what moves do not change (connectivity,
@@ -306,9 +310,6 @@ class InterSurfaceMap {
   double finish_move(const Chart& chart, Layout& layout, double before, const Vec2& p, bool smooth);
   /// faces_energy without storing what it cuts (safe beside other readers).
   double faces_energy_read(int s, const std::vector<int>& faces) const;
-  /// The same with the ring starting at the face (v, start, *).
-  /// (With `ring_only`, only the ring's faces, vertices and edges.)
-  bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
   /// The exact development of v's ring (v inside a face of the other side,
   /// none of its vertices inside the ring's faces): chart.w from unfolding
   /// each spoke's image, chart.boundary_breaks from unfolding the ring's
