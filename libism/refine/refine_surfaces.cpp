@@ -177,8 +177,12 @@ struct Coloured {
   std::vector<std::size_t> starts;  // where each colour starts in `order`, then its size
 };
 Coloured by_colour(const InterSurfaceMap& map, int side, const std::vector<int>& vertices) {
-  const std::size_t n = map.meta().side[side].n_vertices();
-  std::vector<int> colour(n, -1), seen;
+  // (Per thread, -1 but where this call sets it and back to -1 after: a
+  // split batch's few rings cost their size, not the side's.)
+  thread_local std::vector<int> colour;
+  if (colour.size() < map.meta().side[side].n_vertices())
+    colour.resize(map.meta().side[side].n_vertices(), -1);
+  std::vector<int> seen;
   std::vector<char> taken;
   std::vector<std::size_t> count;
   for (const int v : vertices) {
@@ -199,6 +203,7 @@ Coloured by_colour(const InterSurfaceMap& map, int side, const std::vector<int>&
   out.order.resize(seen.size());
   std::vector<std::size_t> next(out.starts.begin(), out.starts.end() - 1);
   for (const int v : seen) out.order[next[colour[v]]++] = v;
+  for (const int v : seen) colour[v] = -1;
   return out;
 }
 
