@@ -135,13 +135,24 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
     return pieces ? measures(*pieces, input_faces.of(s.faces, s.positions)).forward_efficiency
                   : 0.0;
   };
+  // Part-way refined (the variants' race), a face with a corner the caps
+  // added is a cap's.
+  const auto judge_level = [&](const InterSurfaceMap& m) {
+    if (!open) return m.measures().forward_efficiency;
+    const MetaSide& s = m.meta().side[1];
+    const auto pieces = meta_pieces(m.meta());
+    return pieces ? measures(*pieces, input_faces.of_any_level(s.faces, s.positions))
+                        .forward_efficiency
+                  : 0.0;
+  };
   // Ranked by the measure the final map is kept by (caps excluded).
   const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
        .hint = "try --hold-features or other --features",
-       .symmetric_score = open ? tool::SymmetricScore(judge_symmetric) : nullptr},
+       .symmetric_score = open ? tool::SymmetricScore(judge_symmetric) : nullptr,
+       .symmetric_level_score = judge_level},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
         return rank_networks(networks, domain, options, 1000, {}, count, [&](const SurfaceMap& m) {

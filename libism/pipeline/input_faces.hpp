@@ -37,11 +37,15 @@ class InputFaces {
   /// caps). At full resolution a face on the input never has such a corner,
   /// a cap face may (its corners all on the loop) : a coarse judge.
   std::vector<char> of_any_level(const SurfaceMap& map) const {
+    return of_any_level(map.faces(), map.positions());
+  }
+  std::vector<char> of_any_level(const std::vector<Triangle>& faces,
+                                 const std::vector<Vec3>& positions) const {
     if (on_input_.empty()) return {};
-    std::vector<char> out(map.n_faces(), 1);
-    for (std::size_t f = 0; f < map.n_faces(); ++f)
-      for (int v : map.faces()[f])
-        if (cap_points_.count(point_key(map.positions()[v]))) out[f] = 0;
+    std::vector<char> out(faces.size(), 1);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+      for (int v : faces[f])
+        if (cap_points_.count(point_key(positions[v]))) out[f] = 0;
     return out;
   }
 

@@ -381,7 +381,10 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
       run, progress,
       {.input = input,
        .dump_patches = o.dump_patches,
-       .hint = "try --hold-features or another base"},
+       .hint = "try --hold-features or another base",
+       // (Contenders on the symmetric core race by the measure they are kept by.)
+       .symmetric_level_score =
+           [](const InterSurfaceMap& m) { return m.measures().forward_efficiency; }},
       settings,
       [&](const MapOptions& options, std::size_t count) {
         std::vector<DomainCandidate> candidates;

@@ -439,6 +439,13 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       }
       add(local_relaxation(map, options, backoff, stats));
       last_sweep = map.n_vertices(0) + map.n_vertices(1);
+      if (options.after_level && !options.after_level(map)) {
+        stats.stopped = true;
+        stats.large_chart_skips = backoff_state.skipped();
+        stats.energy = map.energy();
+        stats.seconds = watch.seconds();
+        return stats;
+      }
     }
   }
   if (options.before_final) {

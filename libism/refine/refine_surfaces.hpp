@@ -107,6 +107,11 @@ struct SurfaceRefineOptions {
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.
   std::function<void(const SurfaceStep&)> on_step;
+  /// Called after each level's sweeps and local relaxation (both sides'
+  /// vertices grown `sweep_growth`-fold since the last) with the map there;
+  /// false stops the refinement at once: the map is left valid at that
+  /// level, no final sweeps run, and SurfaceRefineStats::stopped is set.
+  std::function<bool(const InterSurfaceMap&)> after_level;
 };
 
 struct SurfaceRefineStats {
@@ -129,6 +134,7 @@ struct SurfaceRefineStats {
   /// Wall seconds of planning optimisations on several threads (their
   /// commits count by chart above).
   double seconds_planning = 0;
+  bool stopped = false;  // after_level returned false: not fully refined
 };
 
 /// Refines both sides to full resolution. Throws std::runtime_error (from

@@ -42,7 +42,8 @@ inline void add_mesh_file_options(CLI::App& app, io::MeshFileOptions& options) {
                "Draco-compress .glb meshes (KHR_draco_mesh_compression; default: plain glTF)");
 }
 
-/// --hold-features, --final-sweeps, --inverse-weight, --contenders and --curvature-weight, the same
+/// --hold-features, --final-sweeps, --inverse-weight, --contenders, --drop-behind and
+/// --curvature-weight, the same
 /// in every front end (each sets its own default variants in `settings`).
 inline void add_map_options(CLI::App& app, MapSettings& settings) {
   app.add_option("--meta-mesh", settings.meta_mesh_path,
@@ -65,6 +66,12 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
                  "where the coarse ranking misjudges, at that many times the map stage's work "
                  "(default 1; semireg on an open surface 2)")
       ->check(CLI::Range(1, 12));
+  app.add_option("--drop-behind", settings.drop_behind,
+                 "Symmetric core (gim-remesh, semireg): stop a variant or contender whose score "
+                 "trails another's by more than this after each of the first two levels of its "
+                 "refinement; the map kept is the same (default 0.01; negative: refine every one "
+                 "whole)")
+      ->check(CLI::Range(-1.0, 1.0));
   app.add_option("--curvature-weight", settings.curvature_weight,
                  "Weight the stretch by 1 + W * curvature / its RMS: more samples where the "
                  "surface bends, a closer remesh (PSNR) for a little stretch")

@@ -3,6 +3,7 @@
 #include "io/io.hpp"
 #include "report/report.hpp"
 #include "tool/failure.hpp"
+#include "tool/variant_race.hpp"
 
 #include <tbb/task_group.h>
 
@@ -34,6 +35,7 @@ void check_settings(const std::string& tool, const MapSettings& settings,
   };
   in_range("--final-sweeps", settings.final_sweeps, 0, 1000);
   in_range("--curvature-weight", settings.curvature_weight, 0, 100);
+  in_range("--drop-behind", settings.drop_behind, -1, 1);
   in_range("--draco-bits", mesh_file.draco_bits, 8, 30);
   if (settings.variants.empty()) throw Failure(tool + ": no map variant to refine");
   for (const auto* list : {&settings.variants, &settings.fallback_variants})
@@ -69,7 +71,8 @@ namespace {
 // moves place the cones), is resumed as an InterSurfaceMap and refined on.
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
                       const std::function<void(double)>& progress, const MapStage& stage,
-                      const MapSettings& settings, std::atomic<int>& side_by_side) {
+                      const MapSettings& settings, std::atomic<int>& side_by_side,
+                      const std::function<bool(const InterSurfaceMap&)>& after_level) {
   SurfaceMap& coarse = *result.setup->map;
   if (coarse.n_vertices() < stage.symmetric_from_vertices) {
     RefineOptions options;
@@ -101,6 +104,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   // Variants refined side by side already keep the cores busy: plans only
   // once fewer than the threads are left.
   refine_options.side_by_side = &side_by_side;
+  refine_options.after_level = after_level;
   ++side_by_side;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
@@ -127,11 +131,19 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     double score = 0;
     MapMeasures measures;  // of the refined map (the symmetric core's: its pieces cut once)
     double seconds = 0;
+    // Its scores after the levels the race judged (surface vertices, score).
+    std::vector<std::pair<std::size_t, double>> levels;
+    std::optional<VariantRace::Drop> dropped;  // stopped by the race
   };
   std::vector<Outcome> outcomes;
   std::atomic<int> side_by_side{0};  // symmetric refinements running
+  // Races decide after the symmetric refinement's second level.
+  constexpr std::size_t kDecideAtLevel = 1;
+  const bool racing = settings.core == MapCore::symmetric && stage.symmetric_level_score;
   auto run_round = [&](std::size_t first, std::size_t last) {
     outcomes.resize(last * contenders);
+    const std::size_t base = first * contenders;
+    VariantRace race(outcomes.size() - base, kDecideAtLevel, racing ? settings.drop_behind : -1.0);
     tbb::task_group group;
     for (std::size_t i = first; i < last; ++i)
       group.run([&, i] {
@@ -150,12 +162,16 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
           out.used = true;
           out.error = std::current_exception();
           out.seconds = seconds();
+          for (std::size_t k = 0; k < contenders; ++k) race.finish(i * contenders + k - base);
           return;
         }
+        for (std::size_t k = setups.size(); k < contenders; ++k)
+          race.finish(i * contenders + k - base);
         // Each contender refined whole, side by side.
         tbb::task_group refinements;
         for (std::size_t k = 0; k < std::min(contenders, setups.size()); ++k)
           refinements.run([&, i, k] {
+            const std::size_t racer = i * contenders + k - base;
             Outcome& out = outcomes[i * contenders + k];
             out.used = true;
             out.result.setup = std::move(setups[k]);
@@ -163,12 +179,26 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               std::function<void(double)> report_progress;
               if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
               if (settings.core == MapCore::symmetric) {
-                refine_symmetric(out.result, all[i], report_progress, stage, settings,
-                                 side_by_side);
-                const InterSurfaceMap& map = *out.result.symmetric;
-                out.measures = map.measures();
-                out.score = stage.symmetric_score ? stage.symmetric_score(map)
-                                                  : out.measures.forward_efficiency;
+                std::function<bool(const InterSurfaceMap&)> after_level;
+                if (racing)
+                  after_level = [&](const InterSurfaceMap& map) {
+                    if (!race.scoring()) return !race.dropped(racer);
+                    const double level_score = stage.symmetric_level_score(map);
+                    out.levels.push_back({map.n_vertices(1), level_score});
+                    return race.report(racer, level_score);
+                  };
+                refine_symmetric(out.result, all[i], report_progress, stage, settings, side_by_side,
+                                 after_level);
+                race.finish(racer);
+                if (out.result.symmetric_stats.stopped) {
+                  out.dropped = race.drop(racer);
+                  out.result.symmetric.reset();  // (its memory freed for the others)
+                } else {
+                  const InterSurfaceMap& map = *out.result.symmetric;
+                  out.measures = map.measures();
+                  out.score = stage.symmetric_score ? stage.symmetric_score(map)
+                                                    : out.measures.forward_efficiency;
+                }
               } else {
                 RefineOptions options;
                 options.max_final_sweeps = settings.final_sweeps;
@@ -181,6 +211,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
               }
             } catch (...) {
               out.error = std::current_exception();
+              race.finish(racer);
             }
             out.seconds = seconds();
           });
@@ -190,8 +221,8 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   };
   run_round(0, all.size());
   bool retry = false;
-  for (const Outcome& out : outcomes)
-    retry |= out.used && !out.error && out.score < stage.retry_below;
+  auto competes = [](const Outcome& out) { return out.used && !out.error && !out.dropped; };
+  for (const Outcome& out : outcomes) retry |= competes(out) && out.score < stage.retry_below;
   if (retry && !settings.fallback_variants.empty()) {
     const std::size_t first = all.size();
     all.insert(all.end(), settings.fallback_variants.begin(), settings.fallback_variants.end());
@@ -201,12 +232,15 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
 
   std::optional<std::size_t> kept;
   for (std::size_t i = 0; i < n; ++i)
-    if (outcomes[i].used && !outcomes[i].error &&
-        (!kept || outcomes[i].score > outcomes[*kept].score))
-      kept = i;
+    if (competes(outcomes[i]) && (!kept || outcomes[i].score > outcomes[*kept].score)) kept = i;
   if (!kept) {
+    // (The map leading the race is never dropped: here every map that was
+    // not dropped failed.)
+    std::exception_ptr first_error;
+    for (const Outcome& out : outcomes)
+      if (!first_error && out.error) first_error = out.error;
     try {
-      std::rethrow_exception(outcomes[0].error);
+      std::rethrow_exception(first_error);
     } catch (const Failure&) {
       throw;
     } catch (const std::exception& e) {
@@ -244,13 +278,26 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       const MapStageResult& result = outcomes[i].result;
       const MapMeasures& m = outcomes[i].measures;
       v["candidate"] = outcomes[i].result.setup->candidate;
-      v["score"] = outcomes[i].score;
-      v["efficiency_domain_to_surface"] = m.forward_efficiency;
-      v["symmetric_efficiency"] = m.symmetric_efficiency;
+      if (const auto& d = outcomes[i].dropped) {
+        v["dropped"] = {{"after_level", d->checkpoint + 1},
+                        {"surface_vertices", outcomes[i].levels.at(d->checkpoint).first},
+                        {"score", d->score},
+                        {"leader_score", d->leader}};
+      } else {
+        v["score"] = outcomes[i].score;
+        v["efficiency_domain_to_surface"] = m.forward_efficiency;
+        v["symmetric_efficiency"] = m.symmetric_efficiency;
+      }
+      // The scores the race judged it by, after its refinement's first levels.
+      if (racing) {
+        Json& levels = v["level_scores"] = Json::array();
+        for (const auto& [vertices, score] : outcomes[i].levels)
+          levels.push_back({{"surface_vertices", vertices}, {"score", score}});
+      }
       v["seconds"] = outcomes[i].seconds;
       // Its refinement to full resolution (on the symmetric core from the
       // takeover), and there the parts that time went to.
-      if (result.symmetric) {
+      if (settings.core == MapCore::symmetric) {
         const SurfaceRefineStats& s = result.symmetric_stats;
         v["seconds_refine"] = s.seconds;
         Json& t = v["seconds_by_operation"];
@@ -262,8 +309,10 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
         // (Wall time of the optimisations planned ahead on several threads;
         // their commits count by chart.)
         t["planning"] = s.seconds_planning;
-        const MapOperationStats& o = result.symmetric->stats();
-        v["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
+        if (result.symmetric) {
+          const MapOperationStats& o = result.symmetric->stats();
+          v["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
+        }
       } else {
         v["seconds_refine"] = result.stats.seconds;
       }
@@ -271,11 +320,14 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     v["kept"] = i == *kept;
     variants.push_back(v);
   }
+  std::size_t dropped = 0;
+  for (const Outcome& out : outcomes) dropped += out.dropped.has_value();
   if (used > 1)
     run.note("kept map " + std::to_string(kept_position) + " of " + std::to_string(used) +
              " (inverse-stretch weight " +
              std::to_string(all[*kept / contenders].inverse_stretch_weight) + ", candidate " +
-             std::to_string(outcomes[*kept].result.setup->candidate) + ")");
+             std::to_string(outcomes[*kept].result.setup->candidate) + ")" +
+             (dropped ? "; " + std::to_string(dropped) + " stopped early, clearly behind" : ""));
   MapStageResult kept_result = std::move(outcomes[*kept].result);
   if (!stage.dump_patches.empty())
     write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {

@@ -59,6 +59,11 @@ struct MapSettings {
   /// Refined side by side after `variants` when one of those scored below
   /// MapStage::retry_below, and compared with them (none: no second round).
   std::vector<MapVariant> fallback_variants;
+  /// On the symmetric core: a map whose score trails another's, refined
+  /// side by side with it, by more than this at the first two levels of its
+  /// refinement is stopped there (tool/variant_race.hpp; --drop-behind).
+  /// Negative: every map is refined whole.
+  double drop_behind = 0.01;
   /// The options of variant i.
   MapOptions map_options(std::size_t i) const;
   /// --inverse-weight W: the single variant W (the first variant's other
@@ -75,7 +80,7 @@ struct MapSettings {
 /// Throws Failure naming the option when a setting is outside the range the
 /// command line accepts (tool/cli.hpp), for front ends that do not parse
 /// options with CLI11 (the Python module): final sweeps 0..1000, inverse
-/// weight 0.001..1, curvature weight 0..100, anisotropy weight 0..1e6 and
+/// weight 0.001..1, drop-behind -1..1, curvature weight 0..100, anisotropy weight 0..1e6 and
 /// threshold 1..1e6, at least one variant, Draco bits 8..30.
 void check_settings(const std::string& tool, const MapSettings& settings,
                     const io::MeshFileOptions& mesh_file = {});
@@ -110,6 +115,11 @@ struct MapStage {
   /// The symmetric core's score of a refined map (the variant with the
   /// highest is kept); empty: its one-way efficiency domain -> surface.
   SymmetricScore symmetric_score;
+  /// The same for a map part-way refined, by which the maps refined side by
+  /// side race (MapSettings::drop_behind); empty: no race, every map refined
+  /// whole (e.g. where the final score, such as a grid's folds, is not
+  /// foreseen part-way).
+  SymmetricScore symmetric_level_score;
 };
 
 /// Chooses the network (or domain) and builds its coarse map with the given
@@ -157,7 +167,10 @@ struct MapStageResult {
 /// not applied from there on) and refined by refine_surfaces (at most settings.final_sweeps final
 /// sweeps; SurfaceRefineOptions::large_chart_backoff on); it is scored by stage.symmetric_score, by
 /// default its domain -> surface efficiency; a stopped refinement's why is describe_stop's line.
-/// The report also gets "map_core".
+/// There the maps of a round race (settings.drop_behind): one clearly behind after two levels is
+/// stopped and not kept (its "map_variants" entry says "dropped", with the scores it was judged
+/// by), and the maps left use the cores it held. Which maps are dropped depends on their scores
+/// only, so the map kept is the same for every run. The report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

@@ -113,6 +113,48 @@ ResumedBlob resumed_blob() {
   return {std::move(pm), std::move(domain), std::move(meta), applied};
 }
 
+// after_level is called after each level (both sides' vertices grown
+// sweep_growth-fold); false stops the refinement there, the map valid at
+// that size, and the same map as a refinement that goes on has there.
+TEST(RefineSurfaces, AfterLevelSeesEachLevelAndMayStopTheRefinement) {
+  ResumedBlob blob = resumed_blob();
+  auto resume = [&] {
+    return InterSurfaceMap(MetaMesh(*blob.meta), side_from_domain(blob.domain, blob.pm),
+                           side_from_pm(blob.pm), blob.applied);
+  };
+  std::vector<std::size_t> sizes;
+  std::vector<double> energies;
+  InterSurfaceMap whole = resume();
+  SurfaceRefineOptions options;
+  options.after_level = [&](const InterSurfaceMap& m) {
+    const std::size_t n = m.n_vertices(0) + m.n_vertices(1);
+    if (!sizes.empty()) EXPECT_GE(double(n), options.sweep_growth * double(sizes.back()));
+    sizes.push_back(n);
+    energies.push_back(m.energy());
+    return true;
+  };
+  const SurfaceRefineStats full = refine_surfaces(whole, options);
+  EXPECT_FALSE(full.stopped);
+  ASSERT_GE(sizes.size(), 2u);
+  EXPECT_EQ(whole.n_faces(1), replay(blob.pm).n_faces());
+
+  InterSurfaceMap stopped = resume();
+  std::size_t calls = 0;
+  options.after_level = [&](const InterSurfaceMap&) {
+    ++calls;
+    return false;
+  };
+  const SurfaceRefineStats part = refine_surfaces(stopped, options);
+  EXPECT_TRUE(part.stopped);
+  EXPECT_EQ(calls, 1u);
+  EXPECT_EQ(stopped.n_vertices(0) + stopped.n_vertices(1), sizes[0]);
+  EXPECT_EQ(stopped.energy(), energies[0]);
+  EXPECT_EQ(part.energy, energies[0]);
+  EXPECT_LT(part.splits, full.splits);
+  EXPECT_EQ(part.final_sweeps, 0u);
+  EXPECT_FALSE(stopped.validate());
+}
+
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
 // gim-remesh's --core symmetric does): the same map at the start (its
 // measures equal SurfaceMap's), then every step valid and each gain the

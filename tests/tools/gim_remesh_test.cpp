@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <fstream>
 
 namespace {
@@ -159,6 +160,65 @@ TEST(GimRemesh, SymmetricCoreGivesAValidImageAboveItsFloors) {
   while (std::getline(in, line)) crossings += line.rfind("x ", 0) == 0;
   EXPECT_GT(crossings, 0u);
   EXPECT_EQ(double(crossings), json["meta_mesh"]["crossings"].get<double>());
+}
+
+// The race between the variants on the symmetric core: with --drop-behind 0
+// a variant behind the other after both of the first two levels is
+// stopped there; the map kept, and so the meta-mesh written, is the one
+// the variants refined whole keep (the survivor then plans on the freed
+// core: the same map for any thread count).
+TEST(GimRemesh, SymmetricCoreStopsAVariantClearlyBehindAndKeepsTheSameMap) {
+  const fs::path dir = scratch_dir("gim_race");
+  const fs::path blob = dir / "blob.obj";
+  ASSERT_EQ(run_tool("ism-genmesh", "blob --faces 12000 -o " + blob.string()).status, 0);
+  std::array<nlohmann::json, 2> json;
+  std::array<std::string, 2> meta;
+  for (int raced = 0; raced < 2; ++raced) {
+    const std::string name = raced ? "raced" : "whole";
+    const fs::path exr = dir / (name + ".exr"), report = dir / (name + ".json"),
+                   meta_file = dir / (name + ".meta");
+    const auto r =
+        run_tool("gim-remesh", blob.string() + " -o " + exr.string() +
+                                   " --size 65 --core symmetric --drop-behind " +
+                                   (raced ? "0" : "-1") + " --meta-mesh " + meta_file.string() +
+                                   " --report " + report.string() + " -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    json[raced] = nlohmann::json::parse(slurp(report));
+    meta[raced] = slurp(meta_file);
+  }
+  const auto& whole = json[0]["map_variants"];
+  const auto& raced = json[1]["map_variants"];
+  ASSERT_EQ(whole.size(), 2u);
+  ASSERT_EQ(raced.size(), 2u);
+  // Each variant's scores after its first two levels (more while the other
+  // has not reached its second), the same in both runs; dropped exactly
+  // when behind the other after both.
+  std::array<std::array<double, 2>, 2> level;
+  for (int v = 0; v < 2; ++v) {
+    ASSERT_GE(whole[v]["level_scores"].size(), 2u);
+    ASSERT_GE(raced[v]["level_scores"].size(), 2u);
+    EXPECT_FALSE(whole[v].contains("dropped"));
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_EQ(whole[v]["level_scores"][k], raced[v]["level_scores"][k]);
+      level[v][k] = whole[v]["level_scores"][k]["score"].get<double>();
+    }
+  }
+  int dropped = 0;
+  for (int v = 0; v < 2; ++v) {
+    const bool behind = level[1 - v][0] > level[v][0] && level[1 - v][1] > level[v][1];
+    EXPECT_EQ(raced[v].contains("dropped"), behind) << "variant " << v;
+    if (!behind) continue;
+    ++dropped;
+    EXPECT_FALSE(raced[v]["kept"].get<bool>());
+    EXPECT_EQ(raced[v]["dropped"]["after_level"].get<int>(), 2);
+    EXPECT_DOUBLE_EQ(raced[v]["dropped"]["score"].get<double>(), level[v][1]);
+    EXPECT_DOUBLE_EQ(raced[v]["dropped"]["leader_score"].get<double>(), level[1 - v][1]);
+    EXPECT_TRUE(whole[1 - v]["kept"].get<bool>());
+  }
+  ASSERT_EQ(dropped, 1) << "the blob's variants no longer separate after two levels";
+  EXPECT_EQ(meta[0], meta[1]);
+  EXPECT_EQ(json[0]["map"]["efficiency_domain_to_surface"],
+            json[1]["map"]["efficiency_domain_to_surface"]);
 }
 
 // Every closed genus-0 shared model, one test each (they take 5-60 s).
