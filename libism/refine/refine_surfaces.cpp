@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstdio>
 #include <deque>
 #include <optional>
@@ -96,14 +95,12 @@ class Planner {
  public:
   Planner(const InterSurfaceMap& map, const SurfaceRefineOptions& options)
       : map_(map),
-        threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()),
-        side_by_side_(options.side_by_side) {
+        threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()) {
     if (threads_ > 1 && threads_ != tbb::this_task_arena::max_concurrency())
       arena_.emplace(threads_);
   }
-  /// Whether plans are made now: more than one thread, and fewer
-  /// refinements running side by side than threads.
-  bool on() const { return threads_ > 1 && !(side_by_side_ && side_by_side_->load() >= threads_); }
+  /// Whether plans are made: more than one thread.
+  bool on() const { return threads_ > 1; }
   /// How many vertices a batch plans.
   std::size_t batch() const { return kPerThread * std::size_t(threads_); }
   /// Plans these (side, vertex), those the back-off will skip left
@@ -148,7 +145,6 @@ class Planner {
   static constexpr std::size_t kPerThread = 16;
   const InterSurfaceMap& map_;
   int threads_;
-  const std::atomic<int>* side_by_side_;
   std::optional<tbb::task_arena> arena_;
   std::vector<InterSurfaceMap::VertexPlan> plans_;
 };

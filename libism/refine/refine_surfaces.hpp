@@ -13,7 +13,6 @@
 #include "refine/refine.hpp"
 
 #include <array>
-#include <atomic>
 #include <functional>
 #include <string>
 
@@ -98,11 +97,6 @@ struct SurfaceRefineOptions {
   /// as the task arena has, 1: none). The map refined is the same for every
   /// value.
   int threads = 0;
-  /// When given: how many refinements run side by side now (e.g. map
-  /// variants on the same cores); plans are made only while they are fewer
-  /// than the threads (planning then costs more than it saves). The map is
-  /// the same either way.
-  const std::atomic<int>* side_by_side = nullptr;
   std::function<void(double)> progress;  // fraction of all splits done
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.

@@ -7,7 +7,6 @@
 
 #include <tbb/task_group.h>
 
-#include <atomic>
 #include <chrono>
 #include <exception>
 #include <functional>
@@ -71,7 +70,7 @@ namespace {
 // moves place the cones), is resumed as an InterSurfaceMap and refined on.
 void refine_symmetric(MapStageResult& result, const MapVariant& variant,
                       const std::function<void(double)>& progress, const MapStage& stage,
-                      const MapSettings& settings, std::atomic<int>& side_by_side,
+                      const MapSettings& settings,
                       const std::function<bool(const InterSurfaceMap&)>& after_level) {
   SurfaceMap& coarse = *result.setup->map;
   if (coarse.n_vertices() < stage.symmetric_from_vertices) {
@@ -101,18 +100,17 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   // The cones are placed: their large charts are retried less and less.
   refine_options.large_chart_backoff = true;
   refine_options.before_final = stage.symmetric_before_final;
-  // Variants refined side by side already keep the cores busy: plans only
-  // once fewer than the threads are left.
-  refine_options.side_by_side = &side_by_side;
+  // No optimisations planned ahead: over a static domain nearly every chart
+  // is a fast one, whose plan saves less than a second thread slows the
+  // commits down (semireg bunny --base-size 100: its refinement 19.9 and
+  // 24.3 s planned, 16.1 and 16.4 s not; results-two-surfaces.md, stop 62).
+  refine_options.threads = 1;
   refine_options.after_level = after_level;
-  ++side_by_side;
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
   } catch (const std::exception& e) {
-    --side_by_side;
     throw std::runtime_error(describe_stop(*result.symmetric, e.what()));
   }
-  --side_by_side;
 }
 
 }  // namespace
@@ -136,7 +134,6 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     std::optional<VariantRace::Drop> dropped;  // stopped by the race
   };
   std::vector<Outcome> outcomes;
-  std::atomic<int> side_by_side{0};  // symmetric refinements running
   // Races decide after the symmetric refinement's second level.
   constexpr std::size_t kDecideAtLevel = 1;
   const bool racing = settings.core == MapCore::symmetric && stage.symmetric_level_score;
@@ -187,11 +184,9 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
                     out.levels.push_back({map.n_vertices(1), level_score});
                     return race.report(racer, level_score);
                   };
-                refine_symmetric(out.result, all[i], report_progress, stage, settings, side_by_side,
-                                 after_level);
+                refine_symmetric(out.result, all[i], report_progress, stage, settings, after_level);
                 race.finish(racer);
-                if (out.result.symmetric_stats.stopped) {
-                  out.dropped = race.drop(racer);
+                if (race.dropped(racer)) {
                   out.result.symmetric.reset();  // (its memory freed for the others)
                 } else {
                   const InterSurfaceMap& map = *out.result.symmetric;
@@ -218,6 +213,10 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
         refinements.wait();
       });
     group.wait();
+    // Every map the race dropped is out, also one that finished before the
+    // race was decided: the map kept does not depend on timing.
+    for (std::size_t r = base; r < outcomes.size(); ++r)
+      if ((outcomes[r].dropped = race.drop(r - base))) outcomes[r].result.symmetric.reset();
   };
   run_round(0, all.size());
   bool retry = false;
@@ -327,7 +326,8 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
              " (inverse-stretch weight " +
              std::to_string(all[*kept / contenders].inverse_stretch_weight) + ", candidate " +
              std::to_string(outcomes[*kept].result.setup->candidate) + ")" +
-             (dropped ? "; " + std::to_string(dropped) + " stopped early, clearly behind" : ""));
+             (dropped ? "; " + std::to_string(dropped) + " dropped, clearly behind after two levels"
+                      : ""));
   MapStageResult kept_result = std::move(outcomes[*kept].result);
   if (!stage.dump_patches.empty())
     write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {

@@ -168,9 +168,11 @@ struct MapStageResult {
 /// sweeps; SurfaceRefineOptions::large_chart_backoff on); it is scored by stage.symmetric_score, by
 /// default its domain -> surface efficiency; a stopped refinement's why is describe_stop's line.
 /// There the maps of a round race (settings.drop_behind): one clearly behind after two levels is
-/// stopped and not kept (its "map_variants" entry says "dropped", with the scores it was judged
-/// by), and the maps left use the cores it held. Which maps are dropped depends on their scores
-/// only, so the map kept is the same for every run. The report also gets "map_core".
+/// dropped (stopped, or, if it had finished by the decision, just not kept; its "map_variants"
+/// entry says "dropped", with the scores it was judged by). Which maps are dropped depends on
+/// their scores only, so the map kept is the same in every run; it differs from the one kept
+/// with every map refined whole only if a dropped map would have overtaken the leader later.
+/// The report also gets "map_core".
 MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage,
                              const MapSettings& settings, const ChooseMap& choose,
                              const MapScore& score);

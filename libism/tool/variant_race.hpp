@@ -13,9 +13,10 @@ namespace ism::tool {
 /// Once every map has reported checkpoint `decide_at` (or finished without
 /// it, or failed), the race is decided once: a map whose score was below
 /// another's by more than `margin` at every checkpoint 0..decide_at is
-/// dropped. Which maps are dropped depends on the scores only, never on the
-/// order or the times the reports arrive; the map leading at `decide_at` is
-/// never dropped. Thread-safe.
+/// dropped (a map that finished before the decision too: the caller leaves
+/// it out all the same). Which maps are dropped depends on the scores only,
+/// never on the order or the times the reports arrive; the map leading at
+/// `decide_at` is never dropped. Thread-safe.
 class VariantRace {
  public:
   /// `maps` racing (indices 0..maps-1). margin < 0: scores are taken as

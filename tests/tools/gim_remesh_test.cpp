@@ -164,9 +164,9 @@ TEST(GimRemesh, SymmetricCoreGivesAValidImageAboveItsFloors) {
 
 // The race between the variants on the symmetric core: with --drop-behind 0
 // a variant behind the other after both of the first two levels is
-// stopped there; the map kept, and so the meta-mesh written, is the one
-// the variants refined whole keep (the survivor then plans on the freed
-// core: the same map for any thread count).
+// dropped (stopped there, or left out if it finished first: the blob's
+// W = 1 variant often does); the map kept, and so the meta-mesh written,
+// is here the one the variants refined whole keep.
 TEST(GimRemesh, SymmetricCoreStopsAVariantClearlyBehindAndKeepsTheSameMap) {
   const fs::path dir = scratch_dir("gim_race");
   const fs::path blob = dir / "blob.obj";
