@@ -209,6 +209,7 @@ struct MapArguments {
   bool hold_features;
   int final_sweeps;
   std::size_t contenders;  // 0: the tool's default
+  double drop_behind;
   std::optional<double> inverse_weight, curvature_weight, anisotropy_weight, anisotropy_threshold;
   py::object meta_mesh;
 
@@ -218,6 +219,9 @@ struct MapArguments {
     if (contenders > 12)
       throw py::value_error("contenders must be in 0..12 (0: the tool's default)");
     settings.contenders = contenders;
+    if (!(drop_behind >= -1 && drop_behind <= 1))
+      throw py::value_error("drop_behind must be in [-1, 1] (negative: every map refined whole)");
+    settings.drop_behind = drop_behind;
     if (inverse_weight) settings.set_inverse_weight(*inverse_weight);
     if (curvature_weight) settings.curvature_weight = *curvature_weight;
     if (anisotropy_weight) settings.set_anisotropy_weight(*anisotropy_weight);
@@ -418,7 +422,7 @@ PYBIND11_MODULE(ism, m) {
       [gim_result](
           const py::object& surface, const py::object& faces, int size, const std::string& metric,
           const std::string& core, const py::object& features, bool hold_features, int final_sweeps,
-          std::size_t contenders, std::optional<double> inverse_weight,
+          std::size_t contenders, double drop_behind, std::optional<double> inverse_weight,
           std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
           std::optional<double> anisotropy_threshold, const py::object& output,
           const py::object& normals, const py::object& mesh, int draco_bits, bool glb_draco,
@@ -436,8 +440,9 @@ PYBIND11_MODULE(ism, m) {
         o.mask = optional_path(mask);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
-                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,     final_sweeps,         contenders,
+                     drop_behind,       inverse_weight,       curvature_weight,
+                     anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         o.map.core = map_core(core);
         auto [r, rep] =
@@ -450,7 +455,7 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
       "metric"_a = "right-isosceles", "core"_a = "surface-map", "features"_a = py::none(),
-      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0, "drop_behind"_a = 0.01,
       "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
@@ -471,15 +476,16 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "semireg",
-      [semireg_result](
-          const py::object& surface, const py::object& faces, const py::object& base,
-          const py::object& base_vertices, std::size_t base_size, int levels, bool grid_points,
-          const std::string& core, bool hold_features, int final_sweeps, std::size_t contenders,
-          std::optional<double> inverse_weight, std::optional<double> curvature_weight,
-          std::optional<double> anisotropy_weight, std::optional<double> anisotropy_threshold,
-          const py::object& output, const py::object& write_base, int draco_bits, bool glb_draco,
-          const py::object& dump_patches, const py::object& meta_mesh, const py::object& report,
-          bool quiet) {
+      [semireg_result](const py::object& surface, const py::object& faces, const py::object& base,
+                       const py::object& base_vertices, std::size_t base_size, int levels,
+                       bool grid_points, const std::string& core, bool hold_features,
+                       int final_sweeps, std::size_t contenders, double drop_behind,
+                       std::optional<double> inverse_weight, std::optional<double> curvature_weight,
+                       std::optional<double> anisotropy_weight,
+                       std::optional<double> anisotropy_threshold, const py::object& output,
+                       const py::object& write_base, int draco_bits, bool glb_draco,
+                       const py::object& dump_patches, const py::object& meta_mesh,
+                       const py::object& report, bool quiet) {
         pipeline::SemiregOptions o;
         o.input = input_mesh(surface, faces, "semireg");
         if (!base.is_none()) {
@@ -500,8 +506,9 @@ PYBIND11_MODULE(ism, m) {
         o.write_base = optional_path(write_base);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
-                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,     final_sweeps,         contenders,
+                     drop_behind,       inverse_weight,       curvature_weight,
+                     anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         o.map.core = map_core(core);
         auto [r, rep] =
@@ -515,7 +522,7 @@ PYBIND11_MODULE(ism, m) {
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "base"_a = py::none(),
       "base_vertices"_a = py::none(), "base_size"_a = 0, "levels"_a = 4, "grid_points"_a = false,
       "core"_a = "surface-map", "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
-      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
+      "drop_behind"_a = 0.01, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "write_base"_a = py::none(), "draco_bits"_a = 14,
       "glb_draco"_a = false, "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
@@ -536,11 +543,11 @@ PYBIND11_MODULE(ism, m) {
           const py::object& surface, const py::object& faces, const py::object& size,
           const py::object& features, bool triangulate, bool no_global_reembedding,
           const std::string& core, bool hold_features, int final_sweeps, std::size_t contenders,
-          std::optional<double> inverse_weight, std::optional<double> curvature_weight,
-          std::optional<double> anisotropy_weight, std::optional<double> anisotropy_threshold,
-          const py::object& output, const py::object& image, int draco_bits, bool glb_draco,
-          const py::object& dump_patches, const py::object& meta_mesh, const py::object& report,
-          bool quiet) {
+          double drop_behind, std::optional<double> inverse_weight,
+          std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
+          std::optional<double> anisotropy_threshold, const py::object& output,
+          const py::object& image, int draco_bits, bool glb_draco, const py::object& dump_patches,
+          const py::object& meta_mesh, const py::object& report, bool quiet) {
         pipeline::TorusRemeshOptions o;
         o.input = input_mesh(surface, faces, "torus_remesh");
         o.features = feature_source(features, "features");
@@ -558,8 +565,9 @@ PYBIND11_MODULE(ism, m) {
         o.image = optional_path(image);
         o.dump_patches = optional_path(dump_patches);
         o.mesh_file = {.draco_bits = draco_bits, .glb_draco = glb_draco};
-        MapArguments{hold_features,    final_sweeps,      contenders,           inverse_weight,
-                     curvature_weight, anisotropy_weight, anisotropy_threshold, meta_mesh}
+        MapArguments{hold_features,     final_sweeps,         contenders,
+                     drop_behind,       inverse_weight,       curvature_weight,
+                     anisotropy_weight, anisotropy_threshold, meta_mesh}
             .apply(o.map);
         o.map.core = map_core(core);
         auto [r, rep] =
@@ -571,7 +579,7 @@ PYBIND11_MODULE(ism, m) {
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 128, "features"_a = py::none(),
       "triangulate"_a = false, "no_global_reembedding"_a = false, "core"_a = "surface-map",
-      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0, "drop_behind"_a = 0.01,
       "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "image"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false,

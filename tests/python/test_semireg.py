@@ -59,6 +59,8 @@ def test_a_base_given_as_arrays(runs, meshes):
         ism.semireg(meshes["blob"], base=(r.base_vertices,))
     with pytest.raises(ValueError, match=r"contenders must be in 0\.\.12"):
         ism.semireg(meshes["blob"], base_size=12, contenders=13)
+    with pytest.raises(ValueError, match=r"drop_behind must be in \[-1, 1\]"):
+        ism.semireg(meshes["blob"], base_size=12, drop_behind=2.0)
 
 
 def test_every_glb_passes_the_khronos_validator(runs, validate_gltf):
