@@ -239,12 +239,11 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
   return gain;
 }
 
-double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff* backoff,
-             SurfaceRefineStats& stats) {
+double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Planner& planner,
+             Backoff* backoff, SurfaceRefineStats& stats) {
   // Vertices of one colour (no two adjacent) next to each other: the rings
   // of a batch planned together do not share faces, so an earlier commit
   // seldom changes a later plan.
-  Planner planner(map, options);
   double gain = 0;
   for (int side = 0; side < 2; ++side)
     gain +=
@@ -256,7 +255,8 @@ double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Backoff*
 
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats unused;
-  return sweep(map, options, nullptr, unused);
+  Planner planner(map, options);
+  return sweep(map, options, planner, nullptr, unused);
 }
 
 namespace {
@@ -267,7 +267,7 @@ namespace {
 /// optimisations.
 LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                 const std::vector<std::pair<int, int>>& seeds,
-                                std::size_t max_moves, Backoff* backoff,
+                                std::size_t max_moves, Planner& planner, Backoff* backoff,
                                 SurfaceRefineStats& timing) {
   LocalRelaxationStats stats;
   std::deque<std::pair<int, int>> queue;
@@ -285,7 +285,6 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
   // With plans: the queue's first entries planned together; committed as
   // they come off the queue (new entries go to its back).
-  Planner planner(map, options);
   std::vector<std::pair<int, int>> batch;
   std::size_t next_plan = 0;
   bool planning = false;
@@ -327,7 +326,8 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
 }
 
 LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
-                                      Backoff* backoff, SurfaceRefineStats& timing) {
+                                      Planner& planner, Backoff* backoff,
+                                      SurfaceRefineStats& timing) {
   if (!(options.local_relaxation_budget > 0)) return {};
   // (By colour, as a sweep: the queue's first entries planned together
   // seldom share a face.)
@@ -336,7 +336,7 @@ LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineO
     for (int v : colour_order(map, side).order) all.push_back({side, v});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
-                    backoff, timing);
+                    planner, backoff, timing);
 }
 
 }  // namespace
@@ -344,14 +344,16 @@ LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineO
 LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
                                                const SurfaceRefineOptions& options) {
   SurfaceRefineStats unused;
-  return local_relaxation(map, options, nullptr, unused);
+  Planner planner(map, options);
+  return local_relaxation(map, options, planner, nullptr, unused);
 }
 
 LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                          const std::vector<std::pair<int, int>>& seeds,
                                          std::size_t max_moves) {
   SurfaceRefineStats unused;
-  return relax_from(map, options, seeds, max_moves, nullptr, unused);
+  Planner planner(map, options);
+  return relax_from(map, options, seeds, max_moves, planner, nullptr, unused);
 }
 
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
@@ -374,6 +376,13 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   int side = fraction(0) <= fraction(1) ? 0 : 1;
   std::size_t in_block = 0;
   Planner planner(map, options);
+  // The closing figures, when finished or stopped by after_level.
+  auto closed = [&] {
+    stats.large_chart_skips = backoff_state.skipped();
+    stats.energy = map.energy();
+    stats.seconds = watch.seconds();
+    return stats;
+  };
   struct Split {
     int side, vs;
     bool hard;  // its growth above options.hard_split_growth
@@ -424,23 +433,20 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       if (options.optimise_other_side)
         for (int x : map.others_in_ring(split.side, split.vs))
           if (map.is_active(1 - split.side, x)) region.push_back({1 - split.side, x});
-      add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), backoff,
-                     stats));
+      add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), planner,
+                     backoff, stats));
     }
     if (level) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (sweep(map, options, backoff, stats) < 1e-3 * e) break;
+        if (sweep(map, options, planner, backoff, stats) < 1e-3 * e) break;
       }
-      add(local_relaxation(map, options, backoff, stats));
+      add(local_relaxation(map, options, planner, backoff, stats));
       last_sweep = map.n_vertices(0) + map.n_vertices(1);
       if (options.after_level && !options.after_level(map)) {
         stats.stopped = true;
-        stats.large_chart_skips = backoff_state.skipped();
-        stats.energy = map.energy();
-        stats.seconds = watch.seconds();
-        return stats;
+        return closed();
       }
     }
   }
@@ -456,13 +462,10 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;
-    if (sweep(map, options, backoff, stats) < options.final_relative_gain * e) break;
+    if (sweep(map, options, planner, backoff, stats) < options.final_relative_gain * e) break;
   }
-  add(local_relaxation(map, options, backoff, stats));
-  stats.large_chart_skips = backoff_state.skipped();
-  stats.energy = map.energy();
-  stats.seconds = watch.seconds();
-  return stats;
+  add(local_relaxation(map, options, planner, backoff, stats));
+  return closed();
 }
 
 std::string describe_stop(const InterSurfaceMap& map, const std::string& what) {
