@@ -159,34 +159,8 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
   }
 }
 
-int count_regions(const TracerMesh& mesh, const std::unordered_set<std::uint64_t>& cuts) {
-  std::vector<int> region(mesh.n_faces(), -1);
-  int count = 0;
-  std::vector<TracerMesh::FaceHandle> stack;
-  for (auto f0 : mesh.faces()) {
-    if (region[f0.idx()] >= 0) continue;
-    region[f0.idx()] = count;
-    stack.push_back(f0);
-    while (!stack.empty()) {
-      const auto f = stack.back();
-      stack.pop_back();
-      for (auto h : mesh.fh_range(f)) {
-        const int a = mesh.from_vertex_handle(h).idx(), b = mesh.to_vertex_handle(h).idx();
-        if (cuts.count(undirected_key(a, b))) continue;
-        const auto g = mesh.face_handle(mesh.opposite_halfedge_handle(h));
-        if (g.is_valid() && region[g.idx()] < 0) {
-          region[g.idx()] = count;
-          stack.push_back(g);
-        }
-      }
-    }
-    ++count;
-  }
-  return count;
-}
-
 int NetworkSurface::count_regions() const {
-  return partition_detail::count_regions(mesh_, network_edges_);
+  return region_count_(mesh_, network_edges_);
 }
 
 void NetworkSurface::next_search(std::size_t n) {

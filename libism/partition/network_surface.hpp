@@ -11,6 +11,7 @@
 // clipping the paths at the loops later leaves them disjoint.
 #include "mesh/triangle_mesh.hpp"
 
+#include "partition/region_count.hpp"
 #include "partition/tracer_mesh.hpp"
 
 #include <array>
@@ -134,6 +135,7 @@ class NetworkSurface {
   std::vector<char> on_network_;
   std::vector<char> near_network_;  // a neighbour on the network (as of the last split)
   EdgeSet network_edges_;
+  mutable RegionCount region_count_;  // remembers the regions between counts
   std::size_t input_vertices_ = 0;
   double scale_ = 1;
   // Search scratch, reused: two states (parity 0 and 1) per vertex.

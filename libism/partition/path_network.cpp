@@ -15,6 +15,7 @@
 #include "mesh/union_find.hpp"
 #include "partition/partition.hpp"
 #include "partition/patches.hpp"
+#include "partition/region_count.hpp"
 #include "partition/tracer_mesh.hpp"
 
 #include <algorithm>
@@ -144,6 +145,7 @@ class NetworkTracer {
   std::vector<Eigen::Vector2d> torus_points_, domain_torus_points_;
   std::vector<char> on_network_;
   std::unordered_set<std::uint64_t> network_edges_;
+  mutable partition_detail::RegionCount region_count_;  // remembers the regions between counts
   int traced_ = 0;
   // Dijkstra scratch, reused across searches.
   std::vector<double> distance_;
@@ -491,7 +493,7 @@ bool NetworkTracer::on_wrong_side(const Candidate& c) {
 }
 
 int NetworkTracer::count_regions() const {
-  return partition_detail::count_regions(mesh_, network_edges_);
+  return region_count_(mesh_, network_edges_);
 }
 
 void NetworkTracer::insert(const Candidate& c) {

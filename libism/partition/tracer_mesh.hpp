@@ -17,8 +17,4 @@ struct TracerTraits : OpenMesh::DefaultTraits {
 };
 using TracerMesh = OpenMesh::TriMesh_ArrayKernelT<TracerTraits>;
 
-/// Regions the edges `cuts` (undirected keys) cut the mesh into: a flood
-/// fill over faces across the other edges.
-int count_regions(const TracerMesh& mesh, const std::unordered_set<std::uint64_t>& cuts);
-
 }  // namespace ism::partition_detail
