@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   // Progressive meshes of every candidate and their coarse maps: the choice.
   const auto chosen = ism::choose_network(std::move(networks), domain, {});
   const auto t3 = Clock::now();
-  const ism::PathNetwork& network = chosen->network;
+  const ism::PathNetwork& network = chosen->network();
   ism::SurfaceMap& map = *chosen->map;
   const ism::RefineStats stats = ism::refine(map);
   const auto t4 = Clock::now();

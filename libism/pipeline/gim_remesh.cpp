@@ -145,6 +145,9 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
                         .forward_efficiency
                   : 0.0;
   };
+  // Every variant ranks the same networks: their progressive meshes are
+  // built once.
+  NetworkCandidates shared(std::move(networks), domain, o.map.variants.size());
   // Ranked by the measure the final map is kept by (caps excluded).
   const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
@@ -155,7 +158,7 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
        .symmetric_level_score = judge_level},
       o.map,
       [&](const MapOptions& options, std::size_t count) {
-        return rank_networks(networks, domain, options, 1000, {}, count, [&](const SurfaceMap& m) {
+        return rank_networks(shared, options, 1000, {}, count, [&](const SurfaceMap& m) {
           return m.measures(input_faces.of_any_level(m)).forward_efficiency;
         });
       },
@@ -171,7 +174,8 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   auto locate = [&](int f, const Eigen::Vector3d& b) {
     return finished.sampler->surface_point(f, b);
   };
-  run.report()["partition"] = partition_report(staged.setup->network, octahedron, staged.setup->pm);
+  run.report()["partition"] =
+      partition_report(staged.setup->network(), octahedron, staged.setup->pm());
   run.report()["partition"]["candidate_networks"] = candidates;
 
   const std::vector<Vec3> normals = vertex_normals(surface_faces, surface_positions);

@@ -446,7 +446,7 @@ SemiregResult semireg(tool::Run& run, const SemiregOptions& o) {
     bj["chosen"] = chosen_base.name;
   }
   run.report()["partition"] =
-      partition_report(chosen->network, open ? chosen_bounded->domain : base, chosen->pm);
+      partition_report(chosen->network(), open ? chosen_bounded->domain : base, chosen->pm());
 
   // The map, from either core, validated, measured on the input and sampled.
   tool::FinishedMap finished =

@@ -178,6 +178,9 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   auto grid_score = [](const TorusGrid& grid) {
     return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
   };
+  // Every variant ranks the same networks: their progressive meshes are
+  // built once.
+  NetworkCandidates shared(std::move(candidates.networks), domain, o.map.variants.size());
   const tool::MapStageResult staged = tool::run_map_stage(
       run, progress,
       {.input = input,
@@ -202,20 +205,20 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
         RefineOptions coarse;
         coarse.global_flat_reembedding = !o.no_global_reembedding;
         coarse.local_disc_every = kLocalDiscEvery;
-        return rank_networks(candidates.networks, domain, options, 1000, coarse, count);
+        return rank_networks(shared, options, 1000, coarse, count);
       },
       [&](const SurfaceMap& map) {
         const std::optional<TorusGrid> grid = sample(map);
         return grid ? grid_score(*grid) : -HUGE_VAL;
       });
   const auto& chosen = staged.setup;
-  run.report()["partition"] = partition_report(chosen->network, torus, chosen->pm);
+  run.report()["partition"] = partition_report(chosen->network(), torus, chosen->pm());
   run.report()["partition"]["candidate_networks"] = n_candidates;
   Json& fj = run.report()["features"];
   fj["source"] = o.features.empty() ? "automatic" : "file";
   if (!o.features.empty()) {
     fj["file"] = o.features.path;
-    const bool was_transposed = chosen->network.features != candidates.given_features;
+    const bool was_transposed = chosen->network().features != candidates.given_features;
     fj["transposed"] = was_transposed;
     if (was_transposed)
       run.note(o.features.path +

@@ -67,23 +67,60 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
 
 }  // namespace
 
+NetworkCandidates::NetworkCandidates(std::vector<PathNetwork> networks,
+                                     const DomainGeometry& domain, std::size_t users)
+    : networks_(std::move(networks)), domain_(domain), users_(std::max<std::size_t>(users, 1)) {
+  for (std::size_t i = 0; i < networks_.size(); ++i) entries_.push_back(std::make_unique<Entry>());
+}
+
+std::shared_ptr<const ConstrainedNetwork> NetworkCandidates::take(std::size_t i) {
+  Entry& entry = *entries_.at(i);
+  std::lock_guard lock(entry.mutex);
+  std::shared_ptr<const ConstrainedNetwork> out = entry.built;
+  if (!out && !entry.error) {
+    try {
+      auto built = std::make_shared<ConstrainedNetwork>();
+      built->network = networks_[i];
+      built->pm = simplify_constrained(built->network, domain_.mesh());
+      out = std::move(built);
+    } catch (const std::runtime_error&) {
+      entry.error = std::current_exception();
+    }
+  }
+  if (++entry.taken % users_ == 0) {
+    entry.built.reset();  // every ranking has it
+  } else {
+    entry.built = out;
+  }
+  if (entry.error) std::rethrow_exception(entry.error);
+  return out;
+}
+
+std::vector<std::unique_ptr<MapSetup>> rank_networks(NetworkCandidates& candidates,
+                                                     const MapOptions& options,
+                                                     std::size_t coarse_vertices,
+                                                     const RefineOptions& refine_options,
+                                                     std::size_t count, const CoarseScore& score) {
+  if (candidates.size() == 0) throw std::invalid_argument("rank_networks: no network");
+  return choose(
+      candidates.size(),
+      [&](std::size_t i) {
+        auto setup = std::make_unique<MapSetup>();
+        setup->constrained = candidates.take(i);
+        setup->map = std::make_unique<SurfaceMap>(candidates.domain(), setup->pm(), options);
+        return setup;
+      },
+      coarse_vertices, refine_options, score, count);
+}
+
 std::vector<std::unique_ptr<MapSetup>> rank_networks(std::vector<PathNetwork> networks,
                                                      const DomainGeometry& domain,
                                                      const MapOptions& options,
                                                      std::size_t coarse_vertices,
                                                      const RefineOptions& refine_options,
                                                      std::size_t count, const CoarseScore& score) {
-  if (networks.empty()) throw std::invalid_argument("rank_networks: no network");
-  return choose(
-      networks.size(),
-      [&](std::size_t i) {
-        auto setup = std::make_unique<MapSetup>();
-        setup->network = std::move(networks[i]);
-        setup->pm = simplify_constrained(setup->network, domain.mesh());
-        setup->map = std::make_unique<SurfaceMap>(domain, setup->pm, options);
-        return setup;
-      },
-      coarse_vertices, refine_options, score, count);
+  NetworkCandidates candidates(std::move(networks), domain);
+  return rank_networks(candidates, options, coarse_vertices, refine_options, count, score);
 }
 
 std::unique_ptr<MapSetup> choose_network(std::vector<PathNetwork> networks,
@@ -105,9 +142,11 @@ std::vector<std::unique_ptr<MapSetup>> rank_domains(std::vector<DomainCandidate>
       [&](std::size_t i) {
         auto setup = std::make_unique<MapSetup>();
         setup->owned_domain = std::move(candidates[i].domain);
-        setup->network = std::move(candidates[i].network);
-        setup->pm = simplify_constrained(setup->network, setup->owned_domain->mesh());
-        setup->map = std::make_unique<SurfaceMap>(*setup->owned_domain, setup->pm, options);
+        auto built = std::make_shared<ConstrainedNetwork>();
+        built->network = std::move(candidates[i].network);
+        built->pm = simplify_constrained(built->network, setup->owned_domain->mesh());
+        setup->constrained = std::move(built);
+        setup->map = std::make_unique<SurfaceMap>(*setup->owned_domain, setup->pm(), options);
         return setup;
       },
       coarse_vertices, RefineOptions{}, score, std::max<std::size_t>(count, 1));

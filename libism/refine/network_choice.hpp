@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 namespace ism {
@@ -17,13 +18,54 @@ namespace ism {
 /// Scores a candidate's coarse map; the higher the better.
 using CoarseScore = std::function<double(const SurfaceMap&)>;
 
+/// A path network with its constrained progressive mesh: the part of a
+/// candidate map that does not depend on MapOptions (immutable once built).
+struct ConstrainedNetwork {
+  PathNetwork network;
+  ProgressiveMesh pm;
+};
+
 /// A map together with what it refers to (SurfaceMap keeps references).
 struct MapSetup {
   std::unique_ptr<const DomainGeometry> owned_domain;  // null when the domain is shared
-  PathNetwork network;
-  ProgressiveMesh pm;
+  /// Shared with every other map built on the same network (NetworkCandidates).
+  std::shared_ptr<const ConstrainedNetwork> constrained;
   std::unique_ptr<SurfaceMap> map;
   std::size_t candidate = 0;  // index of the chosen candidate
+
+  const PathNetwork& network() const { return constrained->network; }
+  const ProgressiveMesh& pm() const { return constrained->pm; }
+};
+
+/// Candidate networks over one domain whose progressive meshes are built on
+/// first demand and shared by every ranking of them, e.g. the map variants
+/// of a front end, which rank the same networks with different MapOptions
+/// (gim-remesh bunny: 24 simplifications of the surface became 12).
+/// Thread-safe: rankings may run concurrently, and one that asks for a mesh
+/// being built waits for it. An entry is let go once `users` rankings have
+/// taken it (the maps built on it keep it alive), and built again if asked
+/// for after that. `domain` must outlive this object and the maps.
+class NetworkCandidates {
+ public:
+  NetworkCandidates(std::vector<PathNetwork> networks, const DomainGeometry& domain,
+                    std::size_t users = 1);
+  std::size_t size() const { return networks_.size(); }
+  const DomainGeometry& domain() const { return domain_; }
+  /// Network i with its progressive mesh; throws the simplification's
+  /// std::runtime_error (every time it is asked for) where it fails.
+  std::shared_ptr<const ConstrainedNetwork> take(std::size_t i);
+
+ private:
+  struct Entry {
+    std::mutex mutex;
+    std::shared_ptr<const ConstrainedNetwork> built;
+    std::exception_ptr error;
+    std::size_t taken = 0;
+  };
+  std::vector<PathNetwork> networks_;
+  const DomainGeometry& domain_;
+  std::size_t users_;
+  std::vector<std::unique_ptr<Entry>> entries_;
 };
 
 /// A domain of its own (e.g. one of several base meshes) with a path network
@@ -54,6 +96,12 @@ std::vector<std::unique_ptr<MapSetup>> rank_networks(
     std::vector<PathNetwork> networks, const DomainGeometry& domain, const MapOptions& options,
     std::size_t coarse_vertices = 1000, const RefineOptions& refine_options = {},
     std::size_t count = 1, const CoarseScore& score = {});
+
+/// The same over shared candidates (their domain), their progressive meshes
+/// built once for every ranking.
+std::vector<std::unique_ptr<MapSetup>> rank_networks(
+    NetworkCandidates& candidates, const MapOptions& options, std::size_t coarse_vertices = 1000,
+    const RefineOptions& refine_options = {}, std::size_t count = 1, const CoarseScore& score = {});
 
 /// The same choice among candidates that differ in their domain as well;
 /// the result owns its domain.

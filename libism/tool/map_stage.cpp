@@ -89,7 +89,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   options.forward_density = coarse.forward_density();
   options.anisotropy_weight = coarse.options().anisotropy_weight;
   options.anisotropy_threshold = coarse.options().anisotropy_threshold;
-  const ProgressiveMesh& pm = result.setup->pm;
+  const ProgressiveMesh& pm = result.setup->pm();
   result.symmetric = std::make_unique<InterSurfaceMap>(
       std::move(*meta), side_from_domain(coarse.domain(), pm), side_from_pm(pm),
       std::array<std::size_t, 2>{0, coarse.splits_applied()}, options);
@@ -331,7 +331,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
   MapStageResult kept_result = std::move(outcomes[*kept].result);
   if (!stage.dump_patches.empty())
     write_output(run, stage.dump_patches, [&](const std::filesystem::path& p) {
-      write_patch_dump(kept_result.setup->network, p);
+      write_patch_dump(kept_result.setup->network(), p);
     });
   return kept_result;
 }

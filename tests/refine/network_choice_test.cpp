@@ -9,6 +9,7 @@
 #include "shapes/shapes.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include <array>
 
@@ -46,6 +47,43 @@ TEST(NetworkChoice, KeepsTheLowestCoarseEnergyAmongNetworks) {
   EXPECT_EQ(chosen->map->validate(), std::nullopt);
 }
 
+TEST(NetworkChoice, VariantsShareEachNetworksProgressiveMesh) {
+  // Two rankings with different options (as two map variants) over one set
+  // of candidates, concurrently: each network's progressive mesh is built
+  // once and the maps built on it share it; each ranking chooses as it
+  // would alone; a network whose simplification fails drops out of both.
+  const TriangleMesh surface = shapes::blob(2000, 4, 0.4);
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry domain(octahedron,
+                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  std::vector<PathNetwork> networks = trace_octahedral_networks(surface);
+  ASSERT_GE(networks.size(), 3u);
+  // The first candidate's paths run along two of its faces' patches: not a
+  // network its simplification accepts.
+  networks.front().face_patch.assign(networks.front().face_patch.size(), 0);
+  const std::size_t n = networks.size();
+  const std::array<MapOptions, 2> variants{MapOptions{}, MapOptions{.inverse_stretch_weight = 0.1}};
+  std::array<std::vector<std::unique_ptr<MapSetup>>, 2> alone, together;
+  for (int v = 0; v < 2; ++v)
+    alone[v] = rank_networks(networks, domain, variants[v], coarse_vertices, {}, n);
+  NetworkCandidates shared(networks, domain, 2);
+  tbb::parallel_for(0, 2, [&](int v) {
+    together[v] = rank_networks(shared, variants[v], coarse_vertices, {}, n);
+  });
+  for (int v = 0; v < 2; ++v) {
+    ASSERT_EQ(together[v].size(), n - 1);
+    ASSERT_EQ(alone[v].size(), n - 1);
+    for (std::size_t k = 0; k < n - 1; ++k) {
+      EXPECT_NE(together[v][k]->candidate, 0u);
+      EXPECT_EQ(together[v][k]->candidate, alone[v][k]->candidate);
+      EXPECT_EQ(together[v][k]->map->energy(), alone[v][k]->map->energy());
+    }
+  }
+  for (const auto& a : together[0])
+    for (const auto& b : together[1])
+      if (a->candidate == b->candidate) EXPECT_EQ(a->constrained.get(), b->constrained.get());
+}
+
 TEST(NetworkChoice, CandidatesWithTheirOwnDomains) {
   const TriangleMesh surface = shapes::blob(3000, 5, 0.4);
   std::vector<DomainCandidate> candidates;
@@ -68,7 +106,7 @@ TEST(NetworkChoice, CandidatesWithTheirOwnDomains) {
   // The chosen map goes on to full resolution.
   refine(*chosen->map);
   EXPECT_EQ(chosen->map->validate(), std::nullopt);
-  EXPECT_EQ(chosen->map->n_vertices(), chosen->network.surface.n_vertices());
+  EXPECT_EQ(chosen->map->n_vertices(), chosen->network().surface.n_vertices());
 }
 
 // A front end's score ranks the candidates instead, and several can be

@@ -125,7 +125,7 @@ TEST(MapStage, ContendersAreRefinedWholeAndCompete) {
   const MapStageResult result =
       run_map_stage(run, progress, {.input = "blob"}, {.contenders = 2}, choose, score);
   EXPECT_EQ(result.setup->map->validate(), std::nullopt);
-  EXPECT_EQ(result.setup->map->n_vertices(), result.setup->network.surface.n_vertices());
+  EXPECT_EQ(result.setup->map->n_vertices(), result.setup->network().surface.n_vertices());
   const Json& maps = run.report()["map_variants"];
   ASSERT_EQ(maps.size(), 2u);
   EXPECT_EQ(maps[0]["contender"], 0);
