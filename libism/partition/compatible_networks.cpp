@@ -1282,17 +1282,17 @@ PathNetwork make_network(const TriangleMesh& surface, std::size_t original_verti
       left_face[{domain.triangles[f][k], domain.triangles[f][(k + 1) % 3]}] = int(f);
   int count = 0;
   const std::vector<int> region = regions(net.surface, cuts, &count);
-  const auto faces = directed_edge_faces(net.surface);
+  const DirectedEdgeFaces faces(net.surface);
   std::vector<int> label(count, -1);
   for (std::size_t e = 0; e < net.paths.size(); ++e) {
     const auto [a, b] = net.domain_edges[e];
     const auto& p = net.paths[e];
     for (const auto& [from, to, x, y] :
          {std::tuple{p[0], p[1], a, b}, std::tuple{p[1], p[0], b, a}}) {
-      const auto face = faces.find(directed_key(from, to));
+      const int face = faces(from, to);
       const auto domain_face = left_face.find({x, y});
-      if (face != faces.end() && domain_face != left_face.end())
-        label[region[face->second]] = domain_face->second;
+      if (face >= 0 && domain_face != left_face.end())
+        label[region[std::size_t(face)]] = domain_face->second;
     }
   }
   net.face_patch.resize(net.surface.n_faces());

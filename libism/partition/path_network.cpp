@@ -659,13 +659,15 @@ PathNetwork NetworkTracer::result() const {
       left_face[{domain_.triangles[f][k], domain_.triangles[f][(k + 1) % 3]}] = int(f);
   int count = 0;
   const std::vector<int> region = regions(net.surface, network_edges_, &count);
-  const auto faces = directed_edge_faces(net.surface);
+  const DirectedEdgeFaces faces(net.surface);
   std::vector<int> label(count, -1);
   for (std::size_t e = 0; e < paths_.size(); ++e) {
     const auto [a, b] = domain_edges_[e];
     const auto& path = paths_[e];
-    label[region[faces.at(directed_key(path[0], path[1]))]] = left_face.at({a, b});
-    label[region[faces.at(directed_key(path[1], path[0]))]] = left_face.at({b, a});
+    const int l = faces(path[0], path[1]), r = faces(path[1], path[0]);
+    if (l < 0 || r < 0) throw std::logic_error("trace_path_network: a path left the surface");
+    label[region[std::size_t(l)]] = left_face.at({a, b});
+    label[region[std::size_t(r)]] = left_face.at({b, a});
   }
   net.face_patch.resize(net.surface.n_faces());
   for (std::size_t f = 0; f < net.surface.n_faces(); ++f) net.face_patch[f] = label[region[f]];

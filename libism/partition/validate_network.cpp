@@ -2,40 +2,73 @@
 #include "partition/partition.hpp"
 #include "partition/patches.hpp"
 
+#include <algorithm>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace ism {
 
 namespace partition_detail {
 
-std::unordered_map<std::uint64_t, int> directed_edge_faces(const TriangleMesh& mesh) {
-  std::unordered_map<std::uint64_t, int> faces;
-  faces.reserve(3 * mesh.n_faces());
+DirectedEdgeFaces::DirectedEdgeFaces(const TriangleMesh& mesh) : first_(mesh.n_vertices() + 1, 0) {
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++first_[std::size_t(t[k]) + 1];
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v) first_[v + 1] += first_[v];
+  out_.resize(first_.back());
+  std::vector<std::size_t> next(first_.begin(), first_.end() - 1);
   for (std::size_t f = 0; f < mesh.n_faces(); ++f)
-    for (int k = 0; k < 3; ++k)
-      faces[directed_key(mesh.triangles[f][k], mesh.triangles[f][(k + 1) % 3])] = int(f);
-  return faces;
+    for (int k = 0; k < 3; ++k) {
+      const Triangle& t = mesh.triangles[f];
+      out_[next[std::size_t(t[k])]++] = {t[(k + 1) % 3], int(f)};
+    }
+  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+    std::sort(out_.begin() + std::ptrdiff_t(first_[v]),
+              out_.begin() + std::ptrdiff_t(first_[v + 1]));
+}
+
+int DirectedEdgeFaces::operator()(int a, int b) const {
+  if (a < 0 || std::size_t(a) + 1 >= first_.size()) return -1;
+  int face = -1;
+  for (std::size_t i = first_[std::size_t(a)]; i < first_[std::size_t(a) + 1]; ++i)
+    if (out_[i].first == b) face = out_[i].second;  // (the last of equals)
+  return face;
 }
 
 std::vector<int> regions(const TriangleMesh& mesh, const std::unordered_set<std::uint64_t>& cuts,
                          int* region_count) {
-  const auto faces = directed_edge_faces(mesh);
+  // The cut edges flagged on the faces' sides once, then faces joined
+  // across every other side.
+  const DirectedEdgeFaces faces(mesh);
+  std::vector<char> cut(3 * mesh.n_faces(), 0);
+  auto flag = [&](int a, int b) {
+    const int f = faces(a, b);
+    if (f < 0) return;
+    const Triangle& t = mesh.triangles[std::size_t(f)];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == a && t[(k + 1) % 3] == b) cut[3 * std::size_t(f) + std::size_t(k)] = 1;
+  };
+  for (const std::uint64_t key : cuts) {
+    const int a = int(key >> 32), b = int(key & 0xffffffffu);
+    flag(a, b), flag(b, a);
+  }
   UnionFind sets(mesh.n_faces());
   for (std::size_t f = 0; f < mesh.n_faces(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[f][k], b = mesh.triangles[f][(k + 1) % 3];
-      if (a > b || cuts.count(undirected_key(a, b))) continue;
-      auto other = faces.find(directed_key(b, a));
-      if (other != faces.end()) sets.unite(f, std::size_t(other->second));
+      if (a > b || cut[3 * f + std::size_t(k)]) continue;
+      const int other = faces(b, a);
+      if (other >= 0) sets.unite(f, std::size_t(other));
     }
   std::vector<int> region(mesh.n_faces(), -1);
-  std::unordered_map<std::size_t, int> id_of_root;
+  std::vector<int> id_of_root(mesh.n_faces(), -1);
+  int count = 0;
   for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
-    auto [it, inserted] = id_of_root.try_emplace(sets.find(f), int(id_of_root.size()));
-    region[f] = it->second;
+    int& id = id_of_root[sets.find(f)];
+    if (id < 0) id = count++;
+    region[f] = id;
   }
-  if (region_count) *region_count = int(id_of_root.size());
+  if (region_count) *region_count = count;
   return region;
 }
 
@@ -71,7 +104,7 @@ std::optional<std::string> validate_network(const PathNetwork& network,
       network.paths.size() != network.domain_edges.size())
     return "wrong number of paths";
 
-  const auto faces = directed_edge_faces(surface);
+  const DirectedEdgeFaces faces(surface);
   std::unordered_set<std::uint64_t> cuts;
   std::vector<int> owner(surface.n_vertices(), -1);  // path of each interior path vertex
   std::set<int> feature_set(network.features.begin(), network.features.end());
@@ -91,17 +124,15 @@ std::optional<std::string> validate_network(const PathNetwork& network,
     auto left = left_face.find({a, b}), right = left_face.find({b, a});
     if (left == left_face.end() && right == left_face.end()) return name + " is not a domain edge";
     for (std::size_t k = 1; k < path.size(); ++k) {
-      auto l = faces.find(directed_key(path[k - 1], path[k]));
-      auto r = faces.find(directed_key(path[k], path[k - 1]));
-      if (l == faces.end() && r == faces.end()) return name + " leaves the surface's edges";
+      const int l = faces(path[k - 1], path[k]), r = faces(path[k], path[k - 1]);
+      if (l < 0 && r < 0) return name + " leaves the surface's edges";
       // A boundary edge of the domain runs along the surface's boundary.
-      if ((l == faces.end()) != (left == left_face.end()) ||
-          (r == faces.end()) != (right == left_face.end()))
-        return name + (l == faces.end() || r == faces.end()
+      if ((l < 0) != (left == left_face.end()) || (r < 0) != (right == left_face.end()))
+        return name + (l < 0 || r < 0
                            ? " runs along the surface's boundary, its domain edge does not"
                            : " is a boundary edge of the domain but not of the surface");
-      if ((l != faces.end() && network.face_patch[l->second] != left->second) ||
-          (r != faces.end() && network.face_patch[r->second] != right->second))
+      if ((l >= 0 && network.face_patch[std::size_t(l)] != left->second) ||
+          (r >= 0 && network.face_patch[std::size_t(r)] != right->second))
         return name + " separates the wrong patches (orientation or order differs from the domain)";
       if (!cuts.insert(undirected_key(path[k - 1], path[k])).second)
         return name + " reuses an edge";
@@ -109,11 +140,12 @@ std::optional<std::string> validate_network(const PathNetwork& network,
   }
 
   // The surface's boundary lies on paths: no patch reaches it elsewhere.
-  for (const auto& [key, f] : faces) {
-    const int a = int(key >> 32), b = int(key & 0xffffffffu);
-    if (!faces.count(directed_key(b, a)) && !cuts.count(undirected_key(a, b)))
-      return "boundary edge " + std::to_string(a) + "-" + std::to_string(b) + " is on no path";
-  }
+  std::optional<std::string> open_edge;
+  faces.for_each([&](int a, int b, int) {
+    if (!open_edge && faces(b, a) < 0 && !cuts.count(undirected_key(a, b)))
+      open_edge = "boundary edge " + std::to_string(a) + "-" + std::to_string(b) + " is on no path";
+  });
+  if (open_edge) return open_edge;
 
   int count = 0;
   const std::vector<int> region = regions(surface, cuts, &count);
