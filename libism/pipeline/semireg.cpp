@@ -17,8 +17,11 @@
 
 #include <tbb/parallel_for.h>
 
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -160,38 +163,60 @@ std::vector<BaseCandidate> decimated_bases(tool::Run& run, const SemiregOptions&
       {"quadric", {.priority = SimplifyPriority::quadric}},
   };
   tool::Progress& progress = run.stage("base");
-  std::vector<BaseCandidate> bases, dual_bases;
-  const double n = double(std::size(priorities));
-  for (const auto& [name, priority] : priorities) {
+  // The decimations (and their duals) are independent: built side by side,
+  // then taken in order, so the candidates and the messages are the same as
+  // one after the other. Only the first reports progress (Progress is not
+  // shared between threads), counting the others as they finish.
+  constexpr std::size_t n = std::size(priorities);
+  struct Built {
+    BaseCandidate base;
+    std::optional<BaseCandidate> dual;
+    std::exception_ptr error;
+  };
+  std::array<Built, n> built;
+  std::atomic<int> finished = 0;
+  tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+    const auto& [name, priority] = priorities[i];
     SimplifyOptions options = priority;
-    const double done = double(bases.size());
-    options.progress = [&](double f) { progress.update((done + f) / n); };
-    ProgressiveMesh decimated;
+    if (i == 0)
+      options.progress = [&](double f) { progress.update((finished.load() + f) / double(n)); };
     try {
       // An open surface is decimated capped, its loops kept as closed paths
       // and its centres kept; the caps are then dropped from the base.
-      decimated = open ? simplify_capped_to(capped.mesh, capped.loops, centres,
-                                            o.base_size + centres.size(), options, kMaxBoundarySpan)
-                       : simplify_to(surface, o.base_size, options);
-    } catch (const std::runtime_error& e) {
-      throw tool::Failure(o.input.path + ": cannot decimate to a base mesh: " + e.what());
+      const ProgressiveMesh decimated =
+          open ? simplify_capped_to(capped.mesh, capped.loops, centres,
+                                    o.base_size + centres.size(), options, kMaxBoundarySpan)
+               : simplify_to(surface, o.base_size, options);
+      // The centres are the last base vertices (their indices follow the input's).
+      auto [base, vertices] = open ? uncapped_base(decimated, centres.size())
+                                   : UncappedBase{base_mesh(decimated), decimated.base_vertices};
+      built[i].base = {name, std::move(base), vertices};
+      // The same vertices with the intrinsic connectivity of their Voronoi
+      // regions, when that is a valid base: often better shaped faces (the
+      // Voronoi dual is built for closed surfaces).
+      if (!open) try {
+          TriangleMesh dual = delaunay_base(surface, vertices);
+          built[i].dual = {std::string(name) + ", Voronoi dual", std::move(dual), vertices};
+        } catch (const PartitionError&) {
+          // Too sparse for a disc per region here: the decimation alone competes.
+        }
+    } catch (const std::runtime_error&) {
+      built[i].error = std::current_exception();
     }
-    // The centres are the last base vertices (their indices follow the input's).
-    auto [base, vertices] = open ? uncapped_base(decimated, centres.size())
-                                 : UncappedBase{base_mesh(decimated), decimated.base_vertices};
-    if (vertices.size() != o.base_size && bases.empty())
-      run.note(o.input.path + ": the base has " + std::to_string(vertices.size()) +
+    ++finished;
+  });
+  std::vector<BaseCandidate> bases, dual_bases;
+  for (Built& b : built) {
+    if (b.error) try {
+        std::rethrow_exception(b.error);
+      } catch (const std::runtime_error& e) {
+        throw tool::Failure(o.input.path + ": cannot decimate to a base mesh: " + e.what());
+      }
+    if (b.base.features.size() != o.base_size && bases.empty())
+      run.note(o.input.path + ": the base has " + std::to_string(b.base.features.size()) +
                " vertices, not " + std::to_string(o.base_size) + " (no legal collapse left)");
-    bases.push_back({name, std::move(base), vertices});
-    if (open) continue;  // the Voronoi dual is built for closed surfaces
-    // The same vertices with the intrinsic connectivity of their Voronoi
-    // regions, when that is a valid base: often better shaped faces.
-    try {
-      TriangleMesh dual = delaunay_base(surface, vertices);
-      dual_bases.push_back({std::string(name) + ", Voronoi dual", std::move(dual), vertices});
-    } catch (const PartitionError&) {
-      // Too sparse for a disc per region here: the decimation alone competes.
-    }
+    bases.push_back(std::move(b.base));
+    if (b.dual) dual_bases.push_back(std::move(*b.dual));
   }
   for (BaseCandidate& dual : dual_bases) bases.push_back(std::move(dual));
   Json& bj = run.report()["base"];
