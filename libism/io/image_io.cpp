@@ -9,7 +9,8 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
-#include <OpenImageIO/imageio.h>
+
+#include <dlfcn.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -284,27 +285,63 @@ std::vector<Eigen::Vector3f> read_exr_rgb(const std::filesystem::path& path, int
   }
 }
 
+namespace {
+
+// The PNG writer module (png_module.cpp), loaded on first use: next to the
+// program (or Python module) holding this code, else where the build put it.
+using WritePng = int (*)(const char*, int, int, int, const unsigned char*, char*, std::size_t);
+
+WritePng png_writer(std::string& why) {
+  static std::string failure;
+  static const WritePng writer = []() -> WritePng {
+    std::vector<std::string> places;
+    Dl_info self{};
+    if (dladdr(reinterpret_cast<void*>(&png_writer), &self) && self.dli_fname)
+      places.push_back(
+          (std::filesystem::path(self.dli_fname).parent_path() / "libism_png.so").string());
+#ifdef ISM_PNG_MODULE
+    if (places.empty() || std::filesystem::path(places[0]) != std::filesystem::path(ISM_PNG_MODULE))
+      places.push_back(ISM_PNG_MODULE);
+#endif
+    for (const std::string& place : places) {
+      if (void* module = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL)) {
+        if (void* symbol = dlsym(module, "ism_write_png"))
+          return reinterpret_cast<WritePng>(symbol);
+      }
+      const char* error = dlerror();
+      failure += (failure.empty() ? "" : "; ") + std::string(error ? error : place.c_str());
+    }
+    if (places.empty()) failure = "no place to look for libism_png.so";
+    return nullptr;
+  }();
+  why = failure;
+  return writer;
+}
+
+void write_png(const std::filesystem::path& path, int width, int height, int channels,
+               const unsigned char* pixels) {
+  std::string why;
+  const WritePng write = png_writer(why);
+  if (!write)
+    throw FileError(path.string() + ": cannot write PNG: the PNG writer module is missing (" + why +
+                    ")");
+  char error[512] = "";
+  if (!write(path.string().c_str(), width, height, channels, pixels, error, sizeof error))
+    throw FileError(path.string() + ": " + error);
+}
+
+}  // namespace
+
 void write_png_preview(const std::filesystem::path& path, int width, int height,
                        const std::vector<std::array<unsigned char, 3>>& pixels) {
   check_size(width, height, pixels.size());
-  // "png" names the format, so a preview.tmp still comes out as PNG.
-  auto out = OIIO::ImageOutput::create("png");
-  if (!out) throw FileError(path.string() + ": OpenImageIO has no PNG writer: " + OIIO::geterror());
-  const OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  const bool ok = out->open(path.string(), spec) &&
-                  out->write_image(OIIO::TypeDesc::UINT8, pixels.front().data()) && out->close();
-  if (!ok) throw FileError(path.string() + ": cannot write PNG: " + out->geterror());
+  write_png(path, width, height, 3, pixels.front().data());
 }
 
 void write_png_grey(const std::filesystem::path& path, int width, int height,
                     const std::vector<unsigned char>& pixels) {
   check_size(width, height, pixels.size());
-  auto out = OIIO::ImageOutput::create("png");
-  if (!out) throw FileError(path.string() + ": OpenImageIO has no PNG writer: " + OIIO::geterror());
-  const OIIO::ImageSpec spec(width, height, 1, OIIO::TypeDesc::UINT8);
-  const bool ok = out->open(path.string(), spec) &&
-                  out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close();
-  if (!ok) throw FileError(path.string() + ": cannot write PNG: " + out->geterror());
+  write_png(path, width, height, 1, pixels.data());
 }
 
 }  // namespace ism::io

@@ -135,8 +135,14 @@ void write_output(const Run& run, const std::string& path,
   OutputFile out(path, run.inputs());
   try {
     write(out.temp_path());
-  } catch (const io::FileError&) {
-    throw Failure(path + ": cannot write the file", Failure::Kind::file);
+  } catch (const io::FileError& e) {
+    // The writer names the temporary file: say the user's path instead.
+    std::string why = e.what();
+    const std::string temp = out.temp_path().string();
+    for (std::size_t at; (at = why.find(temp)) != std::string::npos;)
+      why.replace(at, temp.size(), path);
+    throw Failure(why.rfind(path, 0) == 0 ? why : path + ": cannot write the file (" + why + ")",
+                  Failure::Kind::file);
   }
   out.commit();
 }

@@ -1,4 +1,5 @@
 #include "tool/output_file.hpp"
+#include "io/io.hpp"
 #include "test_support.hpp"
 #include "tool/failure.hpp"
 #include "tool/tool.hpp"
@@ -52,6 +53,29 @@ TEST(OutputFile, RefusesToOverwriteAnInput) {
   const fs::path other = scratch_dir() / "." / "input.obj";
   EXPECT_THROW(OutputFile(other, {input}), Failure);
   EXPECT_THROW(OutputFile(scratch_dir() / "no-such-folder" / "x.obj", {}), Failure);
+}
+
+TEST(OutputFile, AWritersFailureNamesTheUsersPathAndLeavesNothing) {
+  // The writer sees the temporary file and names it in its error; the
+  // failure a user reads names the path they gave, with the writer's reason.
+  const fs::path target = scratch_dir() / "failed.png";
+  fs::remove(target);
+  tool::Run run("test", {.quiet = true});
+  fs::path temp;
+  try {
+    write_output(run, target.string(), [&](const fs::path& p) {
+      temp = p;
+      std::ofstream(p) << "partial";
+      throw io::FileError(p.string() + ": cannot write PNG: no writer here");
+    });
+    FAIL() << "no failure";
+  } catch (const Failure& f) {
+    EXPECT_EQ(std::string(f.what()), target.string() + ": cannot write PNG: no writer here");
+    EXPECT_EQ(f.kind(), Failure::Kind::file);
+  }
+  EXPECT_FALSE(temp.empty());
+  EXPECT_FALSE(fs::exists(temp));
+  EXPECT_FALSE(fs::exists(target));
 }
 
 TEST(Run, PeakMemoryIsReported) {
