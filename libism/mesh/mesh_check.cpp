@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <span>
 #include <sstream>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace ism {
 namespace {
@@ -70,19 +70,25 @@ std::vector<int> weld_targets(const PolygonSoup& soup, std::size_t& welded_count
     if (!inserted) sets.unite(std::size_t(it->second), i);
   }
 
-  // Boundary vertices after the exact weld: ends of edges used once.
-  std::unordered_map<std::uint64_t, int> edge_uses;
+  // Boundary vertices after the exact weld: ends of edges used once (the
+  // edges' keys sorted, each run of one key its uses).
+  std::vector<std::uint64_t> edge_uses;
   for (const auto& face : soup.faces)
     for (std::size_t k = 0; k < face.size(); ++k) {
       int a = int(sets.find(face[k])), b = int(sets.find(face[(k + 1) % face.size()]));
-      if (a != b) ++edge_uses[edge_key(a, b)];
+      if (a != b) edge_uses.push_back(edge_key(a, b));
     }
+  std::sort(edge_uses.begin(), edge_uses.end());
   std::vector<int> boundary;
-  for (const auto& [key, uses] : edge_uses)
-    if (uses == 1) {
-      boundary.push_back(int(key >> 32));
-      boundary.push_back(int(key & 0xffffffffu));
+  for (std::size_t i = 0; i < edge_uses.size();) {
+    std::size_t j = i;
+    while (j < edge_uses.size() && edge_uses[j] == edge_uses[i]) ++j;
+    if (j - i == 1) {
+      boundary.push_back(int(edge_uses[i] >> 32));
+      boundary.push_back(int(edge_uses[i] & 0xffffffffu));
     }
+    i = j;
+  }
   std::sort(boundary.begin(), boundary.end());
   boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
   // Pairs within the tolerance meet in a grid of cells of that size: each
@@ -177,16 +183,19 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   // Triangulate polygons (fans) and drop faces that lost a corner to welding.
   std::vector<Triangle> triangles;
   triangles.reserve(soup.faces.size());
+  std::vector<int> face_corners, distinct;  // (reused: one face at a time)
   for (const auto& face : soup.faces) {
-    std::vector<int> corners;
-    corners.reserve(face.size());
+    std::vector<int>& corners = face_corners;
+    corners.clear();
     for (int v : face) {
       int w = welded[v];
       if (corners.empty() || corners.back() != w) corners.push_back(w);
     }
     while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
-    std::unordered_set<int> distinct(corners.begin(), corners.end());
-    if (corners.size() < 3 || distinct.size() != corners.size()) {
+    distinct.assign(corners.begin(), corners.end());
+    std::sort(distinct.begin(), distinct.end());
+    if (corners.size() < 3 ||
+        std::adjacent_find(distinct.begin(), distinct.end()) != distinct.end()) {
       ++c.dropped_faces;
       continue;
     }
@@ -219,35 +228,57 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   c.faces = nf;
   if (nf == 0) return out;
 
-  // Undirected edges and the faces that use them.
-  std::unordered_map<std::uint64_t, std::vector<EdgeUse>> edges;
-  edges.reserve(3 * nf / 2 + 1);
-  std::unordered_set<std::uint64_t> face_keys;
+  // Undirected edges and the faces that use them: every use sorted by key,
+  // then face and corner, so that each edge's uses are one run (in face
+  // order) and the edges come in key order. Each face's three edges by
+  // their run, in key order.
+  struct KeyedUse {
+    std::uint64_t key;
+    EdgeUse use;
+  };
+  std::vector<KeyedUse> uses_by_key;
+  uses_by_key.reserve(3 * nf);
+  std::vector<std::uint64_t> face_keys;
+  face_keys.reserve(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     const Triangle& t = mesh.triangles[f];
     for (int k = 0; k < 3; ++k) {
       int a = t[k], b = t[(k + 1) % 3];
-      edges[edge_key(a, b)].push_back({f, k, a < b});
+      uses_by_key.push_back({edge_key(a, b), {f, k, a < b}});
     }
     std::array<int, 3> sorted = t;
     std::sort(sorted.begin(), sorted.end());
     std::uint64_t h = (std::uint64_t(sorted[0]) * 0x9E3779B97F4A7C15ull) ^
                       (std::uint64_t(sorted[1]) << 21) ^ (std::uint64_t(sorted[2]) << 42);
-    if (!face_keys.insert(h ^ std::uint64_t(sorted[2])).second) ++c.duplicate_faces;
+    face_keys.push_back(h ^ std::uint64_t(sorted[2]));
   }
-  c.edges = edges.size();
+  std::sort(face_keys.begin(), face_keys.end());
+  for (std::size_t i = 1; i < face_keys.size(); ++i)
+    c.duplicate_faces += face_keys[i] == face_keys[i - 1];
+  std::sort(uses_by_key.begin(), uses_by_key.end(), [](const KeyedUse& x, const KeyedUse& y) {
+    if (x.key != y.key) return x.key < y.key;
+    if (x.use.face != y.use.face) return x.use.face < y.use.face;
+    return x.use.corner < y.use.corner;
+  });
+  // Runs: edge e's uses are uses_by_key[run[e] .. run[e + 1]).
+  std::vector<std::size_t> run;
+  for (std::size_t i = 0; i < uses_by_key.size(); ++i)
+    if (i == 0 || uses_by_key[i].key != uses_by_key[i - 1].key) run.push_back(i);
+  const std::size_t n_edges = run.size();
+  run.push_back(uses_by_key.size());
+  c.edges = n_edges;
+  auto edge_uses = [&](std::size_t e) {
+    return std::span<const KeyedUse>(uses_by_key.data() + run[e], run[e + 1] - run[e]);
+  };
 
   // Corners around a vertex are joined across manifold edges; a vertex whose
   // corners fall into more than one fan is a non-manifold vertex.
   UnionFind corners(3 * nf);
   UnionFind boundary_vertices(nv);
   std::vector<char> on_boundary(nv, 0);
-  std::vector<std::uint64_t> sorted_edge_keys;
-  sorted_edge_keys.reserve(edges.size());
-  for (const auto& [key, uses] : edges) sorted_edge_keys.push_back(key);
-  std::sort(sorted_edge_keys.begin(), sorted_edge_keys.end());  // deterministic examples
-  for (std::uint64_t key : sorted_edge_keys) {
-    const auto& uses = edges[key];
+  for (std::size_t e = 0; e < n_edges; ++e) {  // (in key order: deterministic examples)
+    const auto uses = edge_uses(e);
+    const std::uint64_t key = uses[0].key;
     if (uses.size() > 2) {
       if (!c.example_nonmanifold_edge) {
         int a = int(key >> 32), b = int(key & 0xffffffffu);
@@ -256,8 +287,8 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
       ++c.nonmanifold_edges;
     } else if (uses.size() == 2) {
       for (int end = 0; end < 2; ++end) {
-        const EdgeUse& u = uses[0];
-        const EdgeUse& w = uses[1];
+        const EdgeUse& u = uses[0].use;
+        const EdgeUse& w = uses[1].use;
         int vu = mesh.triangles[u.face][(u.corner + end) % 3];
         int cu = int(3 * u.face) + (u.corner + end) % 3;
         // The same vertex sits at corner or corner+1 of the other face.
@@ -302,9 +333,13 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
 
   std::vector<signed char> flip(nf, 0);  // 0 unvisited, +1 keep, -1 flip
   std::vector<std::size_t> stack;
-  std::vector<std::vector<std::size_t>> face_edges(nf);
-  for (std::uint64_t key : sorted_edge_keys)
-    for (const EdgeUse& u : edges[key]) face_edges[u.face].push_back(key);
+  std::vector<std::array<std::size_t, 3>> face_edges(nf);
+  {
+    std::vector<int> filled(nf, 0);
+    for (std::size_t e = 0; e < n_edges; ++e)
+      for (const KeyedUse& u : edge_uses(e))
+        face_edges[u.use.face][std::size_t(filled[u.use.face]++)] = e;
+  }
   std::size_t flipped_in_components = 0;
   for (std::size_t seed = 0; seed < nf; ++seed) {
     if (flip[seed]) continue;
@@ -314,11 +349,11 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
     while (!stack.empty()) {
       std::size_t f = stack.back();
       stack.pop_back();
-      for (std::uint64_t key : face_edges[f]) {
-        const auto& uses = edges[key];
+      for (std::size_t e : face_edges[f]) {
+        const auto uses = edge_uses(e);
         if (uses.size() != 2) continue;
-        const EdgeUse& mine = uses[0].face == f ? uses[0] : uses[1];
-        const EdgeUse& other = uses[0].face == f ? uses[1] : uses[0];
+        const EdgeUse& mine = uses[0].use.face == f ? uses[0].use : uses[1].use;
+        const EdgeUse& other = uses[0].use.face == f ? uses[1].use : uses[0].use;
         // Neighbours agree when they traverse the shared edge in opposite directions.
         signed char wanted =
             mine.forward != other.forward ? flip[f] : static_cast<signed char>(-flip[f]);
