@@ -291,42 +291,43 @@ namespace {
 // program (or Python module) holding this code, else where the build put it.
 using WritePng = int (*)(const char*, int, int, int, const unsigned char*, char*, std::size_t);
 
-WritePng png_writer(std::string& why) {
-  static std::string failure;
-  static const WritePng writer = []() -> WritePng {
-    std::vector<std::string> places;
-    Dl_info self{};
-    if (dladdr(reinterpret_cast<void*>(&png_writer), &self) && self.dli_fname)
-      places.push_back(
-          (std::filesystem::path(self.dli_fname).parent_path() / "libism_png.so").string());
+struct PngModule {
+  WritePng write = nullptr;
+  std::string failure;  // why it was not found (when write is null)
+};
+
+PngModule load_png_module() {
+  PngModule module;
+  std::vector<std::string> places;
+  Dl_info self{};
+  if (dladdr(reinterpret_cast<void*>(&load_png_module), &self) && self.dli_fname)
+    places.push_back(
+        (std::filesystem::path(self.dli_fname).parent_path() / "libism_png.so").string());
 #ifdef ISM_PNG_MODULE
-    if (places.empty() || std::filesystem::path(places[0]) != std::filesystem::path(ISM_PNG_MODULE))
-      places.push_back(ISM_PNG_MODULE);
+  if (places.empty() || std::filesystem::path(places[0]) != std::filesystem::path(ISM_PNG_MODULE))
+    places.push_back(ISM_PNG_MODULE);
 #endif
-    for (const std::string& place : places) {
-      if (void* module = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL)) {
-        if (void* symbol = dlsym(module, "ism_write_png"))
-          return reinterpret_cast<WritePng>(symbol);
+  for (const std::string& place : places) {
+    if (void* handle = dlopen(place.c_str(), RTLD_NOW | RTLD_LOCAL))
+      if (void* symbol = dlsym(handle, "ism_write_png")) {
+        module.write = reinterpret_cast<WritePng>(symbol);
+        return module;
       }
-      const char* error = dlerror();
-      failure += (failure.empty() ? "" : "; ") + std::string(error ? error : place.c_str());
-    }
-    if (places.empty()) failure = "no place to look for libism_png.so";
-    return nullptr;
-  }();
-  why = failure;
-  return writer;
+    const char* error = dlerror();
+    module.failure += (module.failure.empty() ? "" : "; ") + std::string(error ? error : place);
+  }
+  if (places.empty()) module.failure = "no place to look for libism_png.so";
+  return module;
 }
 
 void write_png(const std::filesystem::path& path, int width, int height, int channels,
                const unsigned char* pixels) {
-  std::string why;
-  const WritePng write = png_writer(why);
-  if (!write)
-    throw FileError(path.string() + ": cannot write PNG: the PNG writer module is missing (" + why +
-                    ")");
+  static const PngModule module = load_png_module();  // (once, thread-safe)
+  if (!module.write)
+    throw FileError(path.string() + ": cannot write PNG: the PNG writer module is missing (" +
+                    module.failure + ")");
   char error[512] = "";
-  if (!write(path.string().c_str(), width, height, channels, pixels, error, sizeof error))
+  if (!module.write(path.string().c_str(), width, height, channels, pixels, error, sizeof error))
     throw FileError(path.string() + ": " + error);
 }
 

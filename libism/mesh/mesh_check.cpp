@@ -183,25 +183,24 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   // Triangulate polygons (fans) and drop faces that lost a corner to welding.
   std::vector<Triangle> triangles;
   triangles.reserve(soup.faces.size());
-  std::vector<int> face_corners, distinct;  // (reused: one face at a time)
+  std::vector<int> polygon, distinct;  // (reused: one face at a time)
   for (const auto& face : soup.faces) {
-    std::vector<int>& corners = face_corners;
-    corners.clear();
+    polygon.clear();
     for (int v : face) {
       int w = welded[v];
-      if (corners.empty() || corners.back() != w) corners.push_back(w);
+      if (polygon.empty() || polygon.back() != w) polygon.push_back(w);
     }
-    while (corners.size() > 1 && corners.front() == corners.back()) corners.pop_back();
-    distinct.assign(corners.begin(), corners.end());
+    while (polygon.size() > 1 && polygon.front() == polygon.back()) polygon.pop_back();
+    distinct.assign(polygon.begin(), polygon.end());
     std::sort(distinct.begin(), distinct.end());
-    if (corners.size() < 3 ||
+    if (polygon.size() < 3 ||
         std::adjacent_find(distinct.begin(), distinct.end()) != distinct.end()) {
       ++c.dropped_faces;
       continue;
     }
-    if (corners.size() > 3) ++c.triangulated_polygons;
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-      triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    if (polygon.size() > 3) ++c.triangulated_polygons;
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+      triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
   }
 
   // Drop vertices no face uses.

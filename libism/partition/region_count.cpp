@@ -165,8 +165,10 @@ void RegionCount::split_regions(const TracerMesh& mesh, const std::vector<int>& 
     visit_stamp_[f] = stamp_;
     visit_[f] = int(searches);
     parent_.push_back(int(searches));
-    if (reached_.size() <= searches) reached_.emplace_back(), head_.emplace_back();
+    if (reached_.size() <= searches)
+      reached_.emplace_back(), queue_.emplace_back(), head_.emplace_back();
     reached_[searches].assign(1, f);
+    queue_[searches].assign(1, f);
     head_[searches] = 0;
     ++searches;
   };
@@ -177,7 +179,7 @@ void RegionCount::split_regions(const TracerMesh& mesh, const std::vector<int>& 
       if (f.is_valid()) start(f.idx());
     }
   }
-  auto open = [&](int g) { return head_[g] < reached_[g].size(); };
+  auto open = [&](int g) { return head_[g] < queue_[g].size(); };
   thread_local std::vector<std::pair<int, int>> by_region;  // (region, search)
   by_region.clear();
   for (std::size_t g = 0; g < searches; ++g) by_region.emplace_back(region(reached_[g][0]), int(g));
@@ -209,7 +211,7 @@ void RegionCount::split_regions(const TracerMesh& mesh, const std::vector<int>& 
       for (const int g0 : live) {
         int g = find(g0);
         if (g != g0 || !open(g)) continue;
-        const auto f = TracerMesh::FaceHandle(reached_[g][head_[g]++]);
+        const auto f = TracerMesh::FaceHandle(queue_[g][head_[g]++]);
         for (auto h : mesh.fh_range(f)) {
           if (cut_[mesh.edge_handle(h).idx()]) continue;
           const auto o = mesh.opposite_face_handle(h);
@@ -219,29 +221,21 @@ void RegionCount::split_regions(const TracerMesh& mesh, const std::vector<int>& 
             visit_stamp_[of] = stamp_;
             visit_[of] = g;
             reached_[g].push_back(of);
+            queue_[g].push_back(of);
             continue;
           }
           const int other = find(visit_[of]);
           if (other == g) continue;
-          // Join the search with fewer faces into the other: its reached
-          // faces are appended, the queued ones staying queued.
+          // Join the search with fewer faces into the other: its faces
+          // and its still queued ones are appended.
           int big = g, small = other;
           if (reached_[big].size() < reached_[small].size()) std::swap(big, small);
           parent_[small] = big;
-          auto& into = reached_[big];
-          auto& from = reached_[small];
-          // Keep `big`'s queue a suffix: its done faces first, then the
-          // queued faces of both.
-          const std::size_t done_big = head_[big], done_small = head_[small];
-          std::vector<int> merged;
-          merged.reserve(into.size() + from.size());
-          merged.insert(merged.end(), into.begin(), into.begin() + std::ptrdiff_t(done_big));
-          merged.insert(merged.end(), from.begin(), from.begin() + std::ptrdiff_t(done_small));
-          merged.insert(merged.end(), into.begin() + std::ptrdiff_t(done_big), into.end());
-          merged.insert(merged.end(), from.begin() + std::ptrdiff_t(done_small), from.end());
-          into = std::move(merged);
-          head_[big] = done_big + done_small;
-          from.clear();
+          reached_[big].insert(reached_[big].end(), reached_[small].begin(), reached_[small].end());
+          queue_[big].insert(queue_[big].end(),
+                             queue_[small].begin() + std::ptrdiff_t(head_[small]),
+                             queue_[small].end());
+          reached_[small].clear(), queue_[small].clear();
           head_[small] = 0;
           g = big;  // f's other neighbours join the search that lives on
         }

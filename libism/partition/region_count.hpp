@@ -43,9 +43,10 @@ class RegionCount {
   std::vector<std::uint32_t> visit_stamp_;
   std::vector<int> visit_;  // per face: the search that reached it
   std::uint32_t stamp_ = 0;
-  // Searches of one call: union-find parents, faces reached, queue heads.
+  // Searches of one call: union-find parents, faces reached, faces queued
+  // (the first head_ of them expanded).
   std::vector<int> parent_;
-  std::vector<std::vector<int>> reached_;
+  std::vector<std::vector<int>> reached_, queue_;
   std::vector<std::size_t> head_;
 };
 
