@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <stdexcept>
 #include <thread>
@@ -10,13 +11,28 @@
 namespace ism {
 namespace {
 
+// How many candidates go on from the race's first stage to the coarse
+// level. On every model measured (bunny, bunny_small, spot, dragon, sphere,
+// cube, a generated blob, teapot with automatic features; gim-remesh's and
+// torus-remesh's two variants each), the best map at the coarse level was
+// among the best three at the first stage (docs/results-speed.md).
+std::size_t race_survivors(std::size_t count, std::size_t keep) {
+  return std::max(keep + 3, (count + 2) / 3);
+}
+
 // Builds every candidate's map, refines it to `coarse_vertices` and keeps the
-// best `count` by score (default: the lowest symmetric energy), best first
-// (the first of equals first); a single candidate is
-// returned unrefined. A candidate whose map fails (a split the map core
-// cannot place) drops out; when all fail, the first failure is rethrown.
-// Candidates are independent, so they run in parallel, as many at a time as
-// there are cores (each holds a copy of the surface).
+// best `keep` by score (default: the lowest symmetric energy), best first
+// (the first of equals first); a single candidate is returned unrefined. A
+// candidate whose map fails (a split the map core cannot place) drops out;
+// when all fail, the first failure is rethrown.
+//
+// A race: every candidate is first refined to its last level sweep at or
+// below a quarter of `coarse_vertices`, and only the best race_survivors()
+// there go on to `coarse_vertices`. Stopping at a level sweep and going on
+// refines exactly as one refinement would (last_level_sweep_at_most), so
+// the result is the full ranking's whenever its winners survive the first
+// stage. Candidates are independent, so they run in parallel, as many at a
+// time as there are cores (each holds a copy of the surface).
 template <class MakeSetup>
 std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup& make_setup,
                                               std::size_t coarse_vertices,
@@ -28,37 +44,71 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
     return out;
   }
   RefineOptions coarse = refine_options;
-  coarse.stop_at_vertices = coarse_vertices;
   coarse.progress = nullptr;
   const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
-  // The best `keep` so far, best first (the first of equals first).
-  std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
   std::exception_ptr first_failure;
-  for (std::size_t first = 0; first < count; first += batch) {
-    const std::size_t last = std::min(count, first + batch);
-    std::vector<std::unique_ptr<MapSetup>> setups(last - first);
-    std::vector<std::exception_ptr> failures(last - first);
-    tbb::parallel_for(first, last, [&](std::size_t i) {
-      try {
-        std::unique_ptr<MapSetup> setup = make_setup(i);
-        setup->candidate = i;
-        refine(*setup->map, coarse);
-        setups[i - first] = std::move(setup);
-      } catch (const std::runtime_error&) {
-        failures[i - first] = std::current_exception();
+  // Refines n candidates, candidate i given by take(i), each to stop(map),
+  // and returns the best `kept` by score, best first.
+  auto stage = [&](std::size_t n, const auto& take, const auto& stop, std::size_t kept) {
+    std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
+    for (std::size_t first = 0; first < n; first += batch) {
+      const std::size_t last = std::min(n, first + batch);
+      std::vector<std::unique_ptr<MapSetup>> setups(last - first);
+      std::vector<std::exception_ptr> failures(last - first);
+      tbb::parallel_for(first, last, [&](std::size_t i) {
+        try {
+          std::unique_ptr<MapSetup> setup = take(i);
+          RefineOptions options = coarse;
+          options.stop_at_vertices = stop(*setup->map);
+          refine(*setup->map, options);
+          setups[i - first] = std::move(setup);
+        } catch (const std::runtime_error&) {
+          failures[i - first] = std::current_exception();
+        }
+      });
+      for (std::size_t k = 0; k < setups.size(); ++k) {
+        if (!setups[k]) {
+          if (!first_failure) first_failure = failures[k];
+          continue;
+        }
+        const double value = score ? score(*setups[k]->map) : -setups[k]->map->energy();
+        auto at = std::find_if(best.begin(), best.end(),
+                               [&](const auto& entry) { return value > entry.first; });
+        best.emplace(at, value, std::move(setups[k]));
+        if (best.size() > kept) best.pop_back();
       }
-    });
-    for (std::size_t k = 0; k < setups.size(); ++k) {
-      if (!setups[k]) {
-        if (!first_failure) first_failure = failures[k];
-        continue;
-      }
-      const double value = score ? score(*setups[k]->map) : -setups[k]->map->energy();
-      auto at = std::find_if(best.begin(), best.end(),
-                             [&](const auto& entry) { return value > entry.first; });
-      best.emplace(at, value, std::move(setups[k]));
-      if (best.size() > keep) best.pop_back();
     }
+    return best;
+  };
+  auto make = [&](std::size_t i) {
+    std::unique_ptr<MapSetup> setup = make_setup(i);
+    setup->candidate = i;
+    return setup;
+  };
+  auto to_coarse = [&](const SurfaceMap&) { return coarse_vertices; };
+  std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
+  const std::size_t survivors = race_survivors(count, keep);
+  if (survivors < count) {
+    auto first_stage = stage(
+        count, make,
+        [&](const SurfaceMap& map) {
+          // At least one level sweep, or the first stage would rank trivial maps.
+          const std::size_t first_sweep =
+              std::size_t(std::ceil(coarse.sweep_growth * double(map.n_vertices())));
+          return last_level_sweep_at_most(
+              coarse, map.n_vertices(),
+              std::min(coarse_vertices, std::max(coarse_vertices / 4, first_sweep)));
+        },
+        survivors);
+    // In candidate order, so that equals at the coarse level rank as without the race.
+    std::sort(first_stage.begin(), first_stage.end(), [](const auto& a, const auto& b) {
+      return a.second->candidate < b.second->candidate;
+    });
+    best = stage(
+        first_stage.size(), [&](std::size_t i) { return std::move(first_stage[i].second); },
+        to_coarse, keep);
+  } else {
+    best = stage(count, make, to_coarse, keep);
   }
   if (best.empty()) std::rethrow_exception(first_failure);
   for (auto& entry : best) out.push_back(std::move(entry.second));

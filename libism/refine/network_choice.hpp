@@ -2,7 +2,10 @@
 // Choosing among path networks. Each valid network fixes a homotopy class of
 // maps that vertex-by-vertex optimisation cannot leave, so the choice matters
 // more than any later effort: each candidate is refined to a coarse level and
-// the one with the lowest symmetric energy there is kept.
+// the one with the lowest symmetric energy there is kept. The candidates
+// race there: all are refined to a quarter of the coarse level (its last
+// level sweep, where refinement goes on exactly as one call), and only the
+// best few (the number kept + 3, or a third if more) go on.
 #include "map/surface_map.hpp"
 #include "partition/partition.hpp"
 #include "pm/pm.hpp"

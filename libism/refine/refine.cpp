@@ -85,6 +85,14 @@ LocalRelaxationStats local_relaxation(SurfaceMap& map, double relative_gain, dou
   return stats;
 }
 
+std::size_t last_level_sweep_at_most(const RefineOptions& options, std::size_t vertices,
+                                     std::size_t limit) {
+  for (std::size_t last = vertices, n = vertices + 1;; ++n) {
+    if (n > limit) return last;
+    if (level_sweep_due(options, n, last)) last = n;
+  }
+}
+
 RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
   const Stopwatch watch;
   RefineStats stats;
@@ -152,7 +160,7 @@ RefineStats refine(SurfaceMap& map, const RefineOptions& options) {
       reembed_disc(map, map.rings_around(vs, rings));
       check("after re-embedding a squeezed split's disc");
     }
-    if (double(map.n_vertices()) >= options.sweep_growth * double(last_sweep)) {
+    if (level_sweep_due(options, map.n_vertices(), last_sweep)) {
       // Sweep until this level has settled: cheap while the mesh is coarse,
       // and it is there that the large-scale shape of the map is decided.
       if (reembed && map.n_vertices() <= options.reembed_max_vertices) reembedding();

@@ -87,6 +87,21 @@ struct RefineStats {
 /// std::runtime_error when a validation (if asked for) fails.
 RefineStats refine(SurfaceMap& map, const RefineOptions& options = {});
 
+/// Whether refine() sweeps a level once the surface has `vertices` vertices,
+/// its last level sweep (or its start) having been at `last_sweep`.
+inline bool level_sweep_due(const RefineOptions& options, std::size_t vertices,
+                            std::size_t last_sweep) {
+  return double(vertices) >= options.sweep_growth * double(last_sweep);
+}
+
+/// The largest vertex count at most `limit` at which refine(), started on a
+/// map of `vertices` vertices, sweeps a level (`vertices` if there is none).
+/// Stopping there (stop_at_vertices) and calling refine() again refines
+/// exactly as one call would, so candidates can be compared there and the
+/// kept ones refined on (choose_network's race).
+std::size_t last_level_sweep_at_most(const RefineOptions& options, std::size_t vertices,
+                                     std::size_t limit);
+
 /// One optimisation pass: released cones first, then every active vertex in
 /// index order; returns the energy decrease. With `validate_each_step`,
 /// validate() after every operation (throws std::runtime_error naming it).

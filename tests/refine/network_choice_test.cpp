@@ -11,7 +11,9 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
+#include <numeric>
 
 namespace ism {
 namespace {
@@ -19,11 +21,12 @@ namespace {
 constexpr std::size_t coarse_vertices = 300;
 
 // The energy a candidate reaches on its own at the coarse level.
-double coarse_energy(const DomainGeometry& domain, const PathNetwork& network) {
+double coarse_energy(const DomainGeometry& domain, const PathNetwork& network,
+                     std::size_t coarse = coarse_vertices) {
   const ProgressiveMesh pm = simplify_constrained(network, domain.mesh());
   SurfaceMap map(domain, pm);
   RefineOptions options;
-  options.stop_at_vertices = coarse_vertices;
+  options.stop_at_vertices = coarse;
   refine(map, options);
   return map.energy();
 }
@@ -45,6 +48,36 @@ TEST(NetworkChoice, KeepsTheLowestCoarseEnergyAmongNetworks) {
   EXPECT_EQ(chosen->owned_domain, nullptr);
   EXPECT_DOUBLE_EQ(chosen->map->energy(), energies[best]);
   EXPECT_EQ(chosen->map->validate(), std::nullopt);
+}
+
+// The candidates race: all to a quarter of the coarse level, the best few
+// on. The two kept are still the full ranking's best two, their maps as if
+// refined to the coarse level in one call.
+TEST(NetworkChoice, TheRaceKeepsTheFullRankingsBest) {
+  const TriangleMesh surface = shapes::blob(5000, 4, 0.4);
+  constexpr std::size_t coarse_vertices = 1000;
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry domain(octahedron,
+                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  PartitionOptions every_pole_pair;
+  every_pole_pair.distinguish_poles = true;
+  const std::vector<PathNetwork> networks = trace_octahedral_networks(surface, every_pole_pair);
+  ASSERT_GT(networks.size(), 5u);  // more than the race lets through for two kept
+  std::vector<std::size_t> order(networks.size());
+  std::vector<double> energies;
+  for (const PathNetwork& n : networks)
+    energies.push_back(coarse_energy(domain, n, coarse_vertices));
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return energies[a] < energies[b]; });
+
+  const auto ranked = rank_networks(networks, domain, {}, coarse_vertices, {}, 2);
+  ASSERT_EQ(ranked.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(ranked[k]->candidate, order[k]);
+    EXPECT_EQ(ranked[k]->map->energy(), energies[order[k]]);
+    EXPECT_EQ(ranked[k]->map->n_vertices(), coarse_vertices);
+  }
 }
 
 TEST(NetworkChoice, VariantsShareEachNetworksProgressiveMesh) {
