@@ -10,6 +10,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <tbb/parallel_for.h>
+
+#include <mutex>
+#include <optional>
 #include <queue>
 #include <set>
 
@@ -108,24 +112,45 @@ std::vector<PathNetwork> trace_octahedral_networks(const TriangleMesh& surface,
                               std::set<int>(extremes.begin(), extremes.end()))
     attempts.push_back(spread);
 
-  std::vector<PathNetwork> valid;
-  std::string last_error;
   // Which antipodal pair sits on ±z matters when the metric tells the poles
   // from the equator (right isosceles: flat poles, cone equator): cycle the
   // pairs through the three roles. Then both chiralities of each.
   const int roles = options.distinguish_poles ? 3 : 1;
+  std::vector<std::vector<int>> assignments;
   for (const auto& features : attempts)
     for (int role = 0; role < roles; ++role)
       for (int chirality = 0; chirality < 2; ++chirality) {
         std::vector<int> assigned(6);
         for (int k = 0; k < 6; ++k) assigned[k] = features[(k + 2 * role) % 6];
         if (chirality) std::swap(assigned[4], assigned[5]);  // mirror: swap +z and -z
-        try {
-          valid.push_back(trace_path_network(surface, octahedron, assigned, options));
-        } catch (const PartitionError& e) {
-          last_error = e.what();
-        }
+        assignments.push_back(std::move(assigned));
       }
+  // The traces are independent: side by side, taken in order.
+  std::vector<std::optional<PathNetwork>> traced(assignments.size());
+  std::vector<std::string> errors(assignments.size());
+  PartitionOptions step = options;
+  step.progress = nullptr;
+  std::mutex progress_mutex;
+  std::size_t done = 0;
+  tbb::parallel_for(std::size_t(0), assignments.size(), [&](std::size_t i) {
+    try {
+      traced[i] = trace_path_network(surface, octahedron, assignments[i], step);
+    } catch (const PartitionError& e) {
+      errors[i] = e.what();
+    }
+    if (options.progress) {
+      std::lock_guard lock(progress_mutex);
+      options.progress(double(++done) / double(assignments.size()));
+    }
+  });
+  std::vector<PathNetwork> valid;
+  std::string last_error;
+  for (std::size_t i = 0; i < traced.size(); ++i) {
+    if (traced[i])
+      valid.push_back(std::move(*traced[i]));
+    else
+      last_error = errors[i];
+  }
   if (valid.empty()) throw PartitionError("no octahedral path network found: " + last_error);
   std::stable_sort(valid.begin(), valid.end(), [](const PathNetwork& a, const PathNetwork& b) {
     return a.total_length() < b.total_length();
