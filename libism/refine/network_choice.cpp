@@ -1,12 +1,13 @@
 #include "refine/network_choice.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 namespace ism {
 namespace {
@@ -45,39 +46,44 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
   }
   RefineOptions coarse = refine_options;
   coarse.progress = nullptr;
-  const std::size_t batch = std::max(1u, std::thread::hardware_concurrency());
   std::exception_ptr first_failure;
   // Refines n candidates, candidate i given by take(i), each to stop(map),
-  // and returns the best `kept` by score, best first.
+  // and returns the best `kept` by score, best first, the first candidate of
+  // equals first. Side by side without a barrier: a map is scored as soon as
+  // it is refined and let go unless it is among the best so far, so no more
+  // maps are held than threads run and kept; the result does not depend on
+  // the order they finish in.
   auto stage = [&](std::size_t n, const auto& take, const auto& stop, std::size_t kept) {
     std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
-    for (std::size_t first = 0; first < n; first += batch) {
-      const std::size_t last = std::min(n, first + batch);
-      std::vector<std::unique_ptr<MapSetup>> setups(last - first);
-      std::vector<std::exception_ptr> failures(last - first);
-      tbb::parallel_for(first, last, [&](std::size_t i) {
-        try {
-          std::unique_ptr<MapSetup> setup = take(i);
-          RefineOptions options = coarse;
-          options.stop_at_vertices = stop(*setup->map);
-          refine(*setup->map, options);
-          setups[i - first] = std::move(setup);
-        } catch (const std::runtime_error&) {
-          failures[i - first] = std::current_exception();
-        }
-      });
-      for (std::size_t k = 0; k < setups.size(); ++k) {
-        if (!setups[k]) {
-          if (!first_failure) first_failure = failures[k];
-          continue;
-        }
-        const double value = score ? score(*setups[k]->map) : -setups[k]->map->energy();
-        auto at = std::find_if(best.begin(), best.end(),
-                               [&](const auto& entry) { return value > entry.first; });
-        best.emplace(at, value, std::move(setups[k]));
-        if (best.size() > kept) best.pop_back();
-      }
-    }
+    std::mutex best_mutex;
+    std::vector<std::exception_ptr> failures(n);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            std::unique_ptr<MapSetup> setup;
+            try {
+              setup = take(i);
+              RefineOptions options = coarse;
+              options.stop_at_vertices = stop(*setup->map);
+              refine(*setup->map, options);
+            } catch (const std::runtime_error&) {
+              failures[i] = std::current_exception();
+              continue;
+            }
+            const double value = score ? score(*setup->map) : -setup->map->energy();
+            auto ahead = [&](const auto& entry) {
+              return value > entry.first ||
+                     (value == entry.first && setup->candidate < entry.second->candidate);
+            };
+            std::lock_guard lock(best_mutex);
+            best.emplace(std::find_if(best.begin(), best.end(), ahead), value, std::move(setup));
+            if (best.size() > kept) best.pop_back();
+          }
+        },
+        tbb::simple_partitioner());
+    for (const std::exception_ptr& failure : failures)
+      if (failure && !first_failure) first_failure = failure;
     return best;
   };
   auto make = [&](std::size_t i) {
@@ -100,10 +106,6 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
               std::min(coarse_vertices, std::max(coarse_vertices / 4, first_sweep)));
         },
         survivors);
-    // In candidate order, so that equals at the coarse level rank as without the race.
-    std::sort(first_stage.begin(), first_stage.end(), [](const auto& a, const auto& b) {
-      return a.second->candidate < b.second->candidate;
-    });
     best = stage(
         first_stage.size(), [&](std::size_t i) { return std::move(first_stage[i].second); },
         to_coarse, keep);
