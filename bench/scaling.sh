@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Issue 18's scaling table: each tool end to end on generated surfaces of
+# growing size (a genus-0 blob for gim-remesh and semireg, a torus R = 2,
+# r = 1 for torus-remesh), one job at a time: wall and user seconds, peak
+# memory, the report's map stage and the growth exponent of wall time and
+# of peak memory between successive sizes, log(t2 / t1) / log(n2 / n1)
+# (1: linear; issue 18 asks ≤ 1.2 for gim-remesh from 80K to 1.28M faces).
+# A run that fails or exceeds TIMEOUT seconds is marked and ends that
+# tool's series. The surface-to-surface tool will join once it exists.
+#   bench/scaling.sh > table.md
+#   SIZES="20000 80000" TOOLS=gim bench/scaling.sh     # a quick subset
+source "$(dirname "$0")/common.sh"
+sizes="${SIZES:-20000 80000 320000 1280000}"
+tools="${TOOLS:-gim semireg torus}"
+timeout_s="${TIMEOUT:-900}"
+
+echo "Scaling end to end ($(nproc) cores, commit $commit), one job at a time, generated surfaces."
+echo "gim-remesh at 257² and semireg --base-size 100 on blobs (seed 1); torus-remesh 128² on a torus R = 2, r = 1."
+echo "Exponents: log(wall₂ / wall₁) / log(faces₂ / faces₁) against the previous row, the same for peak memory."
+echo
+echo "| tool | faces | wall s | user s | CPU/wall | peak MB | map s | exponent (time) | exponent (memory) | efficiency | PSNR dB |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+for tool in $tools; do
+  case "$tool" in
+    gim) exe=gim-remesh shape=(blob --seed 1) ext=exr args=() ;;
+    semireg) exe=semireg shape=(blob --seed 1) ext=obj args=(--base-size 100) ;;
+    torus) exe=torus-remesh shape=(torus --R 2 --r 1) ext=obj args=(--size 128) ;;
+    *) echo "unknown tool $tool" >&2; exit 2 ;;
+  esac
+  previous=""
+  for n in $sizes; do
+    input="$work/${shape[0]}$n.obj"
+    [ -f "$input" ] || "$bin/ism-genmesh" "${shape[@]}" --faces "$n" -o "$input" >/dev/null 2>&1
+    tag="$tool-$n"
+    status=0
+    timeout "$timeout_s" /usr/bin/time -f '%e %U %M' -o "$work/$tag.time" "$bin/$exe" "$input" \
+      "${args[@]}" -o "$work/$tag.$ext" --report "$work/$tag.json" -q >/dev/null 2>"$work/$tag.err" ||
+      status=$?
+    rm -f "$work/$tag.$ext"
+    row="$(python3 - "$work/$tag.json" "$work/$tag.time" "$tool" "$status" "$timeout_s" "$previous" <<'PY'
+import json, math, sys
+path, timing, tool, status, limit, previous = sys.argv[1:]
+try:
+    r = json.load(open(path))
+    faces = r["inputs"][0]["check"]["faces"]
+except (OSError, ValueError, KeyError, IndexError, TypeError):
+    r, faces = {}, None
+lines = [l for l in open(timing).read().strip().splitlines() if l and l[0].isdigit()] or ["- - 0"]
+wall, user, kb = lines[-1].split()[:3]
+if status != "0" or not r:
+    why = f"exceeded {limit} s" if status == "124" else f"failed (exit {status})"
+    print(f"FAILED| {tool} | {faces or ''} | {why} ||||||||")
+    sys.exit()
+wall, user, mb = float(wall), float(user), int(kb) / 1024
+exp_t = exp_m = ""
+if previous:
+    f0, w0, m0 = map(float, previous.split(","))
+    exp_t = f"{math.log(wall / w0) / math.log(faces / f0):.2f}"
+    exp_m = f"{math.log(mb / m0) / math.log(faces / f0):.2f}"
+m = r.get("map", {})
+eff = m.get("efficiency_domain_to_surface", m.get("efficiency", ""))
+eff = f"{eff:.4f}" if isinstance(eff, float) else ""
+psnr = r.get("distance", {}).get("psnr_db", "")
+psnr = f"{psnr:.2f}" if isinstance(psnr, float) else ""
+map_s = r.get("seconds", {}).get("map", "")
+map_s = f"{map_s:.1f}" if isinstance(map_s, float) else ""
+print(f"{faces},{wall},{mb}| {tool} | {faces} | {wall:.1f} | {user:.1f} | {user / wall:.2f} | {mb:.0f} "
+      f"| {map_s} | {exp_t} | {exp_m} | {eff} | {psnr} |")
+PY
+)"
+    echo "|${row#*|}"
+    key="${row%%|*}"
+    [ "$key" = FAILED ] && break
+    previous="$key"
+  done
+done
