@@ -27,7 +27,7 @@ for tool in $tools; do
     torus) exe=torus-remesh shape=(torus --R 2 --r 1) ext=obj args=(--size 128) ;;
     *) echo "unknown tool $tool" >&2; exit 2 ;;
   esac
-  previous=""
+  previous="" second="" rows=0
   for n in $sizes; do
     input="$work/${shape[0]}$n.obj"
     [ -f "$input" ] || "$bin/ism-genmesh" "${shape[@]}" --faces "$n" -o "$input" >/dev/null 2>&1
@@ -72,5 +72,18 @@ PY
     key="${row%%|*}"
     [ "$key" = FAILED ] && break
     previous="$key"
+    rows=$((rows + 1))
+    [ "$rows" = 2 ] && second="$key"
   done
+  # Issue 18's figure: the exponent from the second size to the largest.
+  if [ "$rows" -ge 3 ]; then
+    python3 - "$tool" "$second" "$previous" <<'PY'
+import math, sys
+tool, a, b = sys.argv[1:]
+f0, w0, m0 = map(float, a.split(","))
+f1, w1, m1 = map(float, b.split(","))
+print(f"| {tool} | {f0:.0f} → {f1:.0f} | | | | | | **{math.log(w1 / w0) / math.log(f1 / f0):.2f}** "
+      f"| **{math.log(m1 / m0) / math.log(f1 / f0):.2f}** | | |")
+PY
+  fi
 done
