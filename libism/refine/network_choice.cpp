@@ -98,12 +98,15 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
     auto first_stage = stage(
         count, make,
         [&](const SurfaceMap& map) {
-          // At least one level sweep, or the first stage would rank trivial maps.
+          // At least one level sweep, or the first stage would rank trivial
+          // maps; a candidate with no level sweep before the coarse level
+          // (a base of more than 2/3 of it) is refined to it at once.
           const std::size_t first_sweep =
               std::size_t(std::ceil(coarse.sweep_growth * double(map.n_vertices())));
-          return last_level_sweep_at_most(
+          const std::size_t stop = last_level_sweep_at_most(
               coarse, map.n_vertices(),
               std::min(coarse_vertices, std::max(coarse_vertices / 4, first_sweep)));
+          return stop > map.n_vertices() ? stop : coarse_vertices;
         },
         survivors);
     best = stage(
