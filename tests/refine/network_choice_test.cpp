@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <mutex>
 #include <numeric>
 
 namespace ism {
@@ -78,6 +79,41 @@ TEST(NetworkChoice, TheRaceKeepsTheFullRankingsBest) {
     EXPECT_EQ(ranked[k]->map->energy(), energies[order[k]]);
     EXPECT_EQ(ranked[k]->map->n_vertices(), coarse_vertices);
   }
+}
+
+// A coarse level too close to the base for a level sweep before it: the
+// race has no first stage to judge by, and every candidate is refined to the
+// coarse level at once (not ranked as its trivial map).
+TEST(NetworkChoice, TheRaceWithoutALevelSweepBeforeTheCoarseLevel) {
+  const TriangleMesh surface = shapes::blob(2000, 4, 0.4);
+  const TriangleMesh octahedron = domain::octahedron();
+  const DomainGeometry domain(octahedron,
+                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
+  PartitionOptions every_pole_pair;
+  every_pole_pair.distinguish_poles = true;
+  const std::vector<PathNetwork> networks = trace_octahedral_networks(surface, every_pole_pair);
+  ASSERT_GT(networks.size(), 4u);
+  constexpr std::size_t coarse = 8;  // the octahedron's 6, the first level sweep at 9
+  ASSERT_EQ(last_level_sweep_at_most({}, octahedron.n_vertices(), coarse), octahedron.n_vertices());
+  std::vector<double> energies;
+  for (const PathNetwork& n : networks) energies.push_back(coarse_energy(domain, n, coarse));
+  const std::size_t best =
+      std::size_t(std::min_element(energies.begin(), energies.end()) - energies.begin());
+  // Every map ranked, in either stage, has the coarse level's vertices.
+  std::mutex scored_mutex;
+  std::vector<std::size_t> scored_sizes;
+  const CoarseScore lowest_energy = [&](const SurfaceMap& m) {
+    std::lock_guard lock(scored_mutex);
+    scored_sizes.push_back(m.n_vertices());
+    return -m.energy();
+  };
+  const auto ranked = rank_networks(networks, domain, {}, coarse, {}, 1, lowest_energy);
+  ASSERT_EQ(ranked.size(), 1u);
+  EXPECT_EQ(ranked[0]->candidate, best);
+  EXPECT_EQ(ranked[0]->map->n_vertices(), coarse);
+  EXPECT_EQ(ranked[0]->map->energy(), energies[best]);
+  EXPECT_GT(scored_sizes.size(), networks.size());  // both stages ran
+  for (std::size_t n : scored_sizes) EXPECT_EQ(n, coarse);
 }
 
 TEST(NetworkChoice, VariantsShareEachNetworksProgressiveMesh) {
