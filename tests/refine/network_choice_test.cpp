@@ -32,6 +32,20 @@ double coarse_energy(const DomainGeometry& domain, const PathNetwork& network,
   return map.energy();
 }
 
+// gim-remesh's candidates on the right-isosceles octahedron: every
+// antipodal pair of features tried as the poles (more networks than the race
+// lets through).
+struct PoleNetworks {
+  TriangleMesh octahedron = domain::octahedron();
+  DomainGeometry domain{octahedron, octahedron_lengths(octahedron, DomainMetric::right_isosceles)};
+  std::vector<PathNetwork> networks;
+  explicit PoleNetworks(const TriangleMesh& surface) {
+    PartitionOptions every_pole_pair;
+    every_pole_pair.distinguish_poles = true;
+    networks = trace_octahedral_networks(surface, every_pole_pair);
+  }
+};
+
 TEST(NetworkChoice, KeepsTheLowestCoarseEnergyAmongNetworks) {
   const TriangleMesh surface = shapes::blob(2000, 4, 0.4);
   const TriangleMesh octahedron = domain::octahedron();
@@ -55,14 +69,10 @@ TEST(NetworkChoice, KeepsTheLowestCoarseEnergyAmongNetworks) {
 // on. The two kept are still the full ranking's best two, their maps as if
 // refined to the coarse level in one call.
 TEST(NetworkChoice, TheRaceKeepsTheFullRankingsBest) {
-  const TriangleMesh surface = shapes::blob(5000, 4, 0.4);
   constexpr std::size_t coarse_vertices = 1000;
-  const TriangleMesh octahedron = domain::octahedron();
-  const DomainGeometry domain(octahedron,
-                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
-  PartitionOptions every_pole_pair;
-  every_pole_pair.distinguish_poles = true;
-  const std::vector<PathNetwork> networks = trace_octahedral_networks(surface, every_pole_pair);
+  const PoleNetworks candidates(shapes::blob(5000, 4, 0.4));
+  const DomainGeometry& domain = candidates.domain;
+  const std::vector<PathNetwork>& networks = candidates.networks;
   ASSERT_GT(networks.size(), 5u);  // more than the race lets through for two kept
   std::vector<std::size_t> order(networks.size());
   std::vector<double> energies;
@@ -85,13 +95,10 @@ TEST(NetworkChoice, TheRaceKeepsTheFullRankingsBest) {
 // race has no first stage to judge by, and every candidate is refined to the
 // coarse level at once (not ranked as its trivial map).
 TEST(NetworkChoice, TheRaceWithoutALevelSweepBeforeTheCoarseLevel) {
-  const TriangleMesh surface = shapes::blob(2000, 4, 0.4);
-  const TriangleMesh octahedron = domain::octahedron();
-  const DomainGeometry domain(octahedron,
-                              octahedron_lengths(octahedron, DomainMetric::right_isosceles));
-  PartitionOptions every_pole_pair;
-  every_pole_pair.distinguish_poles = true;
-  const std::vector<PathNetwork> networks = trace_octahedral_networks(surface, every_pole_pair);
+  const PoleNetworks candidates(shapes::blob(2000, 4, 0.4));
+  const DomainGeometry& domain = candidates.domain;
+  const std::vector<PathNetwork>& networks = candidates.networks;
+  const TriangleMesh& octahedron = candidates.octahedron;
   ASSERT_GT(networks.size(), 4u);
   constexpr std::size_t coarse = 8;  // the octahedron's 6, the first level sweep at 9
   ASSERT_EQ(last_level_sweep_at_most({}, octahedron.n_vertices(), coarse), octahedron.n_vertices());
