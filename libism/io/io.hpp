@@ -5,7 +5,8 @@
 // The readers are our own and take hostile files: they never hang (every loop
 // consumes input), never reserve what a header claims before checking it
 // against the bytes the file holds, and end every failure in a FileError.
-// Writing goes through OpenMesh.
+// Writing is ours too (OBJ, OFF and PLY at full double precision), STL's
+// through OpenMesh.
 #include "mesh/polygon_soup.hpp"
 #include "mesh/quad_mesh.hpp"
 #include "mesh/triangle_mesh.hpp"
@@ -73,8 +74,11 @@ struct MeshFileSize {
 /// be read (the same message read_polygon_soup() would give).
 MeshFileSize peek_mesh_size(const std::filesystem::path& path);
 
-/// Writes a triangle mesh as OBJ, PLY (binary), OFF or STL, chosen by the
-/// extension. Throws FileError. Callers that must not leave partial files
+/// Writes a triangle mesh as OBJ, PLY (binary little-endian), OFF or STL,
+/// chosen by the extension: OBJ and OFF coordinates to 17 significant digits
+/// and PLY's as doubles, so they read back exactly (STL is single precision
+/// by its format). Throws FileError, also for faces that are not a 2-manifold
+/// (a directed edge twice, a repeated or missing vertex). Callers that must not leave partial files
 /// write to a temporary name first (see tool/output_file.hpp).
 void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
 
@@ -90,5 +94,22 @@ using Rgb = std::array<unsigned char, 3>;
 /// be empty), for looking at partitions in MeshLab or Blender.
 void write_colored_ply(const TriangleMesh& mesh, const std::vector<Rgb>& vertex_colors,
                        const std::vector<Rgb>& face_colors, const std::filesystem::path& path);
+
+/// Per-vertex values (scalars or vectors): row i holds vertex i's, every row
+/// the same number of columns.
+struct VertexField {
+  std::size_t columns = 0;
+  std::vector<double> values;  // row-major, rows × columns
+  std::size_t rows() const { return columns ? values.size() / columns : 0; }
+};
+
+/// Reads a per-vertex field: one row per vertex, numbers separated by blanks
+/// (or commas); lines empty or starting with '#' skipped. Throws FileError
+/// naming the file and line: not a number, rows of different lengths, or a
+/// row count other than `rows`.
+VertexField read_vertex_field(const std::filesystem::path& path, std::size_t rows);
+/// Writes a field as read_vertex_field() reads it, every value to 17
+/// significant digits. Throws FileError.
+void write_vertex_field(const VertexField& field, const std::filesystem::path& path);
 
 }  // namespace ism::io

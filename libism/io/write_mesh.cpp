@@ -4,7 +4,10 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include <bit>
+#include <cstdint>
 #include <cstdio>
+#include <unordered_set>
 
 namespace ism::io {
 namespace {
@@ -14,32 +17,91 @@ struct DoubleTraits : OpenMesh::DefaultTraits {
   using Normal = OpenMesh::Vec3d;
 };
 
-// Writes positions and faces through an OpenMesh kernel (a TriMesh for
-// triangles, a PolyMesh for polygons, which a TriMesh would split). Faces are
-// added in order, so indices of the written file match the mesh.
+// Checks that faces form a 2-manifold (each directed edge once): the files
+// written must read back as the mesh.
+template <std::size_t Corners>
+void check_manifold(const std::vector<std::array<int, Corners>>& faces, std::size_t vertices,
+                    const std::filesystem::path& path) {
+  std::unordered_set<std::uint64_t> directed;
+  directed.reserve(Corners * faces.size());
+  for (const auto& face : faces)
+    for (std::size_t k = 0; k < Corners; ++k) {
+      const int a = face[k], b = face[(k + 1) % Corners];
+      if (a < 0 || b < 0 || std::size_t(a) >= vertices || std::size_t(b) >= vertices || a == b ||
+          !directed.insert((std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b)).second)
+        throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
+    }
+}
+
+// OBJ, OFF (text, every coordinate to 17 significant digits: read back
+// exactly) and PLY (binary little-endian doubles) written here; STL (single
+// precision by its format) through OpenMesh. Indices of the written file match
+// the mesh.
 template <class Kernel, std::size_t Corners>
-void write_through_openmesh(const std::vector<Vec3>& positions,
-                            const std::vector<std::array<int, Corners>>& faces,
-                            const std::filesystem::path& path) {
+void write_faces(const std::vector<Vec3>& positions,
+                 const std::vector<std::array<int, Corners>>& faces,
+                 const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
-  OpenMesh::IO::Options options;
-  if (ext == ".ply" || ext == ".stl") options += OpenMesh::IO::Options::Binary;
-  Kernel out;
-  out.reserve(positions.size(), Corners * faces.size() / 2, faces.size());
-  std::vector<typename Kernel::VertexHandle> handles;
-  handles.reserve(positions.size());
-  for (const Vec3& p : positions) handles.push_back(out.add_vertex({p.x(), p.y(), p.z()}));
-  omerr().disable();
-  std::vector<typename Kernel::VertexHandle> corners(Corners);
-  for (const auto& face : faces) {
-    for (std::size_t k = 0; k < Corners; ++k) corners[k] = handles[face[k]];
-    if (!out.add_face(corners).is_valid())
-      throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
+  if (ext == ".stl") {
+    OpenMesh::IO::Options options;
+    options += OpenMesh::IO::Options::Binary;
+    Kernel out;
+    out.reserve(positions.size(), Corners * faces.size() / 2, faces.size());
+    std::vector<typename Kernel::VertexHandle> handles;
+    handles.reserve(positions.size());
+    for (const Vec3& p : positions) handles.push_back(out.add_vertex({p.x(), p.y(), p.z()}));
+    omerr().disable();
+    std::vector<typename Kernel::VertexHandle> corners(Corners);
+    for (const auto& face : faces) {
+      for (std::size_t k = 0; k < Corners; ++k) corners[k] = handles[face[k]];
+      if (!out.add_face(corners).is_valid())
+        throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
+    }
+    omlog().disable();
+    omout().disable();
+    if (!OpenMesh::IO::write_mesh(out, path.string(), options, 17))
+      throw FileError(path.string() + ": cannot write the file");
+    return;
   }
-  omlog().disable();
-  omout().disable();
-  if (!OpenMesh::IO::write_mesh(out, path.string(), options, 17))
-    throw FileError(path.string() + ": cannot write the file");
+  check_manifold(faces, positions.size(), path);
+  std::FILE* file = std::fopen(path.string().c_str(), ext == ".ply" ? "wb" : "w");
+  if (!file) throw FileError(path.string() + ": cannot write the file");
+  if (ext == ".obj") {
+    std::fprintf(file, "# %zu vertices, %zu faces\n", positions.size(), faces.size());
+    for (const Vec3& p : positions)
+      std::fprintf(file, "v %.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+    for (const auto& face : faces) {
+      std::fputc('f', file);
+      for (int v : face) std::fprintf(file, " %d", v + 1);
+      std::fputc('\n', file);
+    }
+  } else if (ext == ".off") {
+    std::fprintf(file, "OFF\n%zu %zu 0\n", positions.size(), faces.size());
+    for (const Vec3& p : positions) std::fprintf(file, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+    for (const auto& face : faces) {
+      std::fprintf(file, "%zu", Corners);
+      for (int v : face) std::fprintf(file, " %d", v);
+      std::fputc('\n', file);
+    }
+  } else {  // .ply
+    std::fprintf(file,
+                 "ply\nformat binary_little_endian 1.0\nelement vertex %zu\nproperty double x\n"
+                 "property double y\nproperty double z\nelement face %zu\n"
+                 "property list uchar int vertex_indices\nend_header\n",
+                 positions.size(), faces.size());
+    static_assert(std::endian::native == std::endian::little, "PLY is written little-endian");
+    for (const Vec3& p : positions) {
+      const double xyz[3] = {p.x(), p.y(), p.z()};
+      std::fwrite(xyz, sizeof xyz, 1, file);
+    }
+    for (const auto& face : faces) {
+      const unsigned char n = Corners;
+      std::fwrite(&n, 1, 1, file);
+      std::fwrite(face.data(), sizeof(int), Corners, file);
+    }
+  }
+  const bool ok = !std::ferror(file);
+  if (std::fclose(file) != 0 || !ok) throw FileError(path.string() + ": cannot write the file");
 }
 
 }  // namespace
@@ -48,8 +110,7 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path) {
   const std::string ext = path.extension().string();
   if (!(ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl"))
     throw FileError(path.string() + ": unsupported output format (use .obj, .ply, .off or .stl)");
-  write_through_openmesh<OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>>(mesh.positions,
-                                                                       mesh.triangles, path);
+  write_faces<OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>>(mesh.positions, mesh.triangles, path);
 }
 
 void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path) {
@@ -58,8 +119,7 @@ void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path) {
     throw FileError(path.string() +
                     ": unsupported format for quads (use .obj, .ply or .off; .stl and .drc "
                     "store triangles only)");
-  write_through_openmesh<OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>>(mesh.positions, mesh.quads,
-                                                                        path);
+  write_faces<OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>>(mesh.positions, mesh.quads, path);
 }
 
 }  // namespace ism::io
