@@ -182,4 +182,16 @@ struct SurfaceDistance {
 SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& other,
                                  const SurfaceDistanceOptions& options = {});
 
+/// The point of a mesh nearest to a query point: its face, its barycentric
+/// coordinates there (each in [0, 1], summing to 1) and its squared distance.
+struct NearestPoint {
+  int face = -1;
+  Vec3 bary = Vec3::Zero();
+  double squared_distance = 0.0;
+};
+/// The nearest point of `mesh` to each of `points` (AABB tree, in parallel;
+/// the result depends only on the inputs). Of faces at the same distance the
+/// tree's first is taken. Throws std::invalid_argument as surface_distance().
+std::vector<NearestPoint> nearest_points(const TriangleMesh& mesh, const std::vector<Vec3>& points);
+
 }  // namespace ism

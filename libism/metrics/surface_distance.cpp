@@ -94,7 +94,7 @@ class SurfaceSampler {
 /// Closest-point queries against one mesh.
 class DistanceOracle {
  public:
-  explicit DistanceOracle(const TriangleMesh& mesh) {
+  explicit DistanceOracle(const TriangleMesh& mesh) : mesh_(mesh) {
     triangles_.reserve(mesh.n_faces());
     for (const Triangle& t : mesh.triangles)
       triangles_.emplace_back(to_cgal(mesh.positions[t[0]]), to_cgal(mesh.positions[t[1]]),
@@ -118,12 +118,56 @@ class DistanceOracle {
     return result;
   }
 
+  /// Nearest face and point of each point, in parallel (one slot per point).
+  std::vector<NearestPoint> nearest(const std::vector<Vec3>& points) const {
+    std::vector<NearestPoint> result(points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          const auto hit = tree_.closest_point_and_primitive(to_cgal(points[i]));
+                          const int f = int(hit.second - triangles_.cbegin());
+                          const Vec3 q(hit.first.x(), hit.first.y(), hit.first.z());
+                          result[i] = {f, barycentric(f, q), (q - points[i]).squaredNorm()};
+                        }
+                      });
+    return result;
+  }
+
  private:
+  // Barycentric coordinates of q (a point of face f) in f, clamped to [0, 1]
+  // and summing to 1 (q lies in the face up to rounding).
+  Vec3 barycentric(int f, const Vec3& q) const {
+    const Triangle& t = mesh_.triangles[std::size_t(f)];
+    const Vec3 a = mesh_.positions[t[0]], e1 = mesh_.positions[t[1]] - a,
+               e2 = mesh_.positions[t[2]] - a, d = q - a;
+    const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2);
+    const double r1 = d.dot(e1), r2 = d.dot(e2), det = d11 * d22 - d12 * d12;
+    if (!(det > 0)) {  // a degenerate face: its corner nearest to q
+      int k = 0;
+      for (int c = 1; c < 3; ++c)
+        if ((mesh_.positions[t[c]] - q).squaredNorm() < (mesh_.positions[t[k]] - q).squaredNorm())
+          k = c;
+      return Vec3::Unit(k);
+    }
+    const double u = std::clamp((d22 * r1 - d12 * r2) / det, 0.0, 1.0);
+    const double v = std::clamp((d11 * r2 - d12 * r1) / det, 0.0, 1.0);
+    const double sum = u + v;
+    const Vec3 b = sum > 1 ? Vec3(0, u / sum, v / sum) : Vec3(1 - sum, u, v);
+    return b;
+  }
+
+  const TriangleMesh& mesh_;
   CgalTriangles triangles_;  // the primitives point into this vector
   Tree tree_;
 };
 
 }  // namespace
+
+std::vector<NearestPoint> nearest_points(const TriangleMesh& mesh,
+                                         const std::vector<Vec3>& points) {
+  check_mesh(mesh, "reference");
+  return DistanceOracle(mesh).nearest(points);
+}
 
 SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMesh& other,
                                  const SurfaceDistanceOptions& options) {

@@ -1,0 +1,311 @@
+#include "pipeline/map_surfaces.hpp"
+
+#include "io/features.hpp"
+#include "io/io.hpp"
+#include "map/inter_surface_map.hpp"
+#include "partition/compatible_networks.hpp"
+#include "pm/pm.hpp"
+#include "refine/refine_surfaces.hpp"
+#include "report/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+namespace ism::pipeline {
+namespace {
+
+const char* const kName[2] = {"A", "B"};
+
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+// The point of side s at a location on it.
+Vec3 point_of(const MetaSide& side, const MetaLocation& at) {
+  if (at.vertex >= 0) return side.positions[std::size_t(at.vertex)];
+  const Triangle& t = side.faces[std::size_t(at.face)];
+  return at.bary[0] * side.positions[t[0]] + at.bary[1] * side.positions[t[1]] +
+         at.bary[2] * side.positions[t[2]];
+}
+
+}  // namespace
+
+std::array<std::vector<SurfacePoint>, 2> input_correspondence(
+    const MetaMesh& meta, const std::array<const TriangleMesh*, 2>& input) {
+  std::array<std::vector<SurfacePoint>, 2> result;
+  for (int s = 0; s < 2; ++s) {
+    const MetaSide& from = meta.side[std::size_t(s)];
+    const MetaSide& to = meta.side[std::size_t(1 - s)];
+    const TriangleMesh& target = *input[std::size_t(1 - s)];
+    const std::size_t n = input[std::size_t(s)]->n_vertices();
+    if (from.n_vertices() < n || to.positions.size() != to.n_vertices())
+      throw std::invalid_argument("input_correspondence: a side is not a refinement of its input");
+    // The image's point on the refined other side, then the input face of
+    // the other surface holding it (the refined faces lie in the input's).
+    std::vector<Vec3> points(n);
+    for (std::size_t v = 0; v < n; ++v) points[v] = point_of(to, from.location[v]);
+    const std::vector<NearestPoint> near = nearest_points(target, points);
+    auto& out = result[std::size_t(s)];
+    out.reserve(n);
+    for (std::size_t v = 0; v < n; ++v) out.push_back({near[v].face, near[v].bary, points[v]});
+  }
+  return result;
+}
+
+void write_correspondence(const std::vector<SurfacePoint>& images, const TriangleMesh& target,
+                          const std::filesystem::path& path) {
+  std::ofstream out(path);
+  if (!out) throw io::FileError(path.string() + ": cannot be written");
+  char line[96];
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const Triangle& t = target.triangles[std::size_t(images[i].face)];
+    for (int k = 0; k < 3; ++k) {
+      std::snprintf(line, sizeof line, "%zu %d %.17g\n", i, t[std::size_t(k)], images[i].bary[k]);
+      out << line;
+    }
+  }
+  out.flush();
+  if (!out) throw io::FileError(path.string() + ": write failed");
+}
+
+io::VertexField transfer_field(const io::VertexField& field, const std::vector<Triangle>& faces,
+                               const std::vector<SurfacePoint>& images) {
+  io::VertexField out;
+  out.columns = field.columns;
+  out.values.assign(images.size() * field.columns, 0.0);
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const Triangle& t = faces[std::size_t(images[i].face)];
+    for (int k = 0; k < 3; ++k)
+      for (std::size_t c = 0; c < field.columns; ++c)
+        out.values[i * field.columns + c] +=
+            images[i].bary[k] * field.values[std::size_t(t[std::size_t(k)]) * field.columns + c];
+  }
+  return out;
+}
+
+MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
+  const std::string tool = run.tool_name();
+  for (const tool::InputMesh* in : {&o.a, &o.b})
+    if (!in->soup) run.add_input(in->path);
+  if (!o.features.empty()) run.add_input(o.features);
+  std::vector<std::string> outputs;
+  if (!o.output_prefix.empty())
+    for (const char* suffix : {"_on_A.obj", "_on_B.obj", "_A_to_B.txt", "_B_to_A.txt"})
+      outputs.push_back(o.output_prefix + suffix);
+  const bool extras = !o.morph.empty() || o.morph_frames > 0 || !o.transfer_field_a.empty() ||
+                      !o.transfer_field_b.empty();
+  if (extras && o.output_prefix.empty())
+    throw tool::Failure(tool + ": morphs and transferred fields need an output prefix (-o PREFIX)");
+  for (double t : o.morph)
+    if (!std::isfinite(t)) throw tool::Failure(tool + ": a morph time is not a finite number");
+  if (o.morph_frames == 1 || o.morph_frames < 0 || o.morph_frames > 10000)
+    throw tool::Failure(tool + ": --morph-frames takes 2 to 10000 frames (got " +
+                        std::to_string(o.morph_frames) + ")");
+  // Every morph as (t, file).
+  std::vector<std::pair<double, std::string>> morphs;
+  char number[32];
+  for (std::size_t k = 0; k < o.morph.size(); ++k) {
+    std::snprintf(number, sizeof number, "_%03zu", k);
+    morphs.push_back({o.morph[k], o.output_prefix + "_morph" +
+                                      (o.morph.size() == 1 ? std::string() : number) + ".obj"});
+  }
+  for (int k = 0; k < o.morph_frames; ++k) {
+    std::snprintf(number, sizeof number, "_%03d", k);
+    morphs.push_back(
+        {double(k) / (o.morph_frames - 1), o.output_prefix + "_frame" + number + ".obj"});
+  }
+  for (const auto& [t, file] : morphs) outputs.push_back(file);
+  const std::array<std::string, 2> field_in{o.transfer_field_a, o.transfer_field_b};
+  std::array<std::string, 2> field_out;  // [s]: side s's field carried onto the other side
+  for (int s = 0; s < 2; ++s)
+    if (!field_in[std::size_t(s)].empty()) {
+      run.add_input(field_in[std::size_t(s)]);
+      field_out[std::size_t(s)] =
+          o.output_prefix + (s == 0 ? "_field_on_B.txt" : "_field_on_A.txt");
+      outputs.push_back(field_out[std::size_t(s)]);
+    }
+  if (!o.meta_mesh.empty()) outputs.push_back(o.meta_mesh);
+  for (const std::string& out : outputs) run.check_output(out);
+
+  const MeshRequirements needs{
+      .tool = tool,
+      .closed = true,
+      .closed_advice = "maps between surfaces with boundary loops are not supported yet"};
+  std::array<MeshCheck, 2> check;
+  const std::array<TriangleMesh, 2> mesh{run.load_surface(o.a, needs, &check[0]),
+                                         run.load_surface(o.b, needs, &check[1])};
+  const std::array<std::string, 2> names{o.a.path, o.b.path};
+
+  // The fields are read before the work, against the surfaces as read.
+  std::array<io::VertexField, 2> field;
+  for (int s = 0; s < 2; ++s)
+    if (!field_in[std::size_t(s)].empty()) {
+      if (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices)
+        throw tool::Failure(names[std::size_t(s)] +
+                            ": reading renumbered its vertices (coincident vertices welded or "
+                            "unreferenced ones dropped), so the rows of " +
+                            field_in[std::size_t(s)] + " would belong to other vertices");
+      try {
+        field[std::size_t(s)] =
+            io::read_vertex_field(field_in[std::size_t(s)], mesh[std::size_t(s)].n_vertices());
+      } catch (const io::FileError& e) {
+        throw tool::reading_failure(field_in[std::size_t(s)], e);
+      }
+    }
+
+  run.stage("features");
+  io::FeaturePairs pairs;
+  if (!o.features.empty()) {
+    try {
+      pairs = io::read_feature_pairs(o.features, mesh[0], mesh[1], names);
+    } catch (const io::FileError& e) {
+      throw tool::reading_failure(o.features, e);
+    }
+    if (pairs.pairs.empty())
+      throw tool::Failure(o.features + ": no feature pairs (omit --features for automatic ones)");
+    for (int s = 0; s < 2 && pairs.by_index; ++s)
+      if (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices)
+        throw tool::Failure(names[std::size_t(s)] +
+                            ": reading renumbered its vertices (coincident vertices welded or "
+                            "unreferenced ones dropped), so the pairs' vertex indices would name "
+                            "other vertices; give the pairs as points (X Y Z) instead");
+  }
+
+  tool::Progress& partition_progress = run.stage("partition");
+  CompatibleOptions partition_options;
+  partition_options.names = names;
+  partition_options.progress = [&](double f) { partition_progress.update(f); };
+  CompatibleNetworks networks;
+  try {
+    networks = trace_compatible_networks(mesh[0], mesh[1], pairs.pairs, partition_options);
+  } catch (const PartitionError& e) {
+    throw tool::Failure(tool + ": " + e.what());
+  }
+
+  tool::Progress& pm_progress = run.stage("progressive meshes");
+  SimplifyOptions simplify;
+  simplify.progress = [&](double f) { pm_progress.update(f); };
+  const std::array<ProgressiveMesh, 2> pms = simplify_compatible(networks, simplify);
+  Json& report = run.report();
+  report["partition"] = compatible_partition_report(networks, pms);
+
+  tool::Progress& refine_progress = run.stage("refine");
+  InterSurfaceOptions map_options;
+  map_options.hold_features = o.hold_features;
+  InterSurfaceMap map(side_from_pm(pms[0]), side_from_pm(pms[1]), map_options);
+  SurfaceRefineOptions refine;
+  refine.threads = o.threads;
+  refine.progress = [&](double f) { refine_progress.update(f); };
+  SurfaceRefineStats stats;
+  try {
+    stats = refine_surfaces(map, refine);
+  } catch (const std::exception& e) {
+    throw tool::Failure(tool + ": " + describe_stop(map, e.what()), tool::Failure::Kind::internal);
+  }
+
+  run.stage("validate");
+  if (const auto problem = map.validate())
+    throw tool::Failure(tool + ": the refined map does not validate: " + *problem,
+                        tool::Failure::Kind::internal);
+  MapSurfacesResult result;
+  result.meta = map.meta();
+  auto pieces = meta_pieces(result.meta);
+  if (!pieces)
+    throw tool::Failure(tool + ": the map's meta-mesh does not validate from both sides",
+                        tool::Failure::Kind::internal);
+  result.measures = measures(*pieces);
+
+  run.stage("overlay");
+  result.overlay = common_refinement(result.meta, *pieces);
+  result.correspondence = input_correspondence(result.meta, {&mesh[0], &mesh[1]});
+
+  run.stage("write");
+  if (!o.output_prefix.empty()) {
+    for (int s = 0; s < 2; ++s)
+      tool::write_output(run, outputs[std::size_t(s)], [&](const std::filesystem::path& p) {
+        io::write_mesh(result.overlay.on_side(s), p);
+      });
+    for (int s = 0; s < 2; ++s)
+      tool::write_output(run, outputs[std::size_t(2 + s)], [&](const std::filesystem::path& p) {
+        write_correspondence(result.correspondence[std::size_t(s)], mesh[std::size_t(1 - s)], p);
+      });
+  }
+  for (const auto& [t, file] : morphs) {
+    TriangleMesh frame = result.overlay.on_side(0);
+    for (std::size_t v = 0; v < frame.n_vertices(); ++v)
+      frame.positions[v] =
+          (1 - t) * result.overlay.positions[0][v] + t * result.overlay.positions[1][v];
+    tool::write_output(run, file,
+                       [&](const std::filesystem::path& p) { io::write_mesh(frame, p); });
+  }
+  for (int s = 0; s < 2; ++s)
+    if (!field_out[std::size_t(s)].empty()) {
+      const io::VertexField moved =
+          transfer_field(field[std::size_t(s)], mesh[std::size_t(s)].triangles,
+                         result.correspondence[std::size_t(1 - s)]);
+      tool::write_output(run, field_out[std::size_t(s)],
+                         [&](const std::filesystem::path& p) { io::write_vertex_field(moved, p); });
+    }
+  if (!o.meta_mesh.empty())
+    tool::write_output(run, o.meta_mesh,
+                       [&](const std::filesystem::path& p) { write_meta_mesh(result.meta, p); });
+
+  // The report: the map, the overlay, and how far each feature pair's image
+  // lies from its partner (relative to the target's bounding-box diagonal).
+  const MapMeasures& m = result.measures;
+  Json j = map_report(map, m, stats);
+  j["faces"] = Json::array({map.n_faces(0), map.n_faces(1)});
+  j.erase("domain_faces");
+  j["symmetric_dirichlet"] = 4 / m.symmetric_efficiency;
+  j["efficiency_a_to_b"] = m.forward_efficiency;
+  j["efficiency_b_to_a"] = m.backward_efficiency;
+  j.erase("efficiency_domain_to_surface");
+  j.erase("efficiency_surface_to_domain");
+  j["hold_features"] = o.hold_features;
+  j["seconds_refine"] = stats.seconds;
+  const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
+  Json overlay = Json::object();
+  overlay["vertices"] = result.overlay.positions[0].size();
+  overlay["triangles"] = result.overlay.triangles.size();
+  overlay["pieces"] = size.pieces;
+  overlay["crossings"] = size.crossings;
+  overlay["kinks"] = size.kinks;
+  overlay["triangulated_pieces"] = size.triangulated_pieces;
+  overlay["points_inside_pieces"] = size.points_inside_pieces;
+  j["overlay"] = overlay;
+  Json residuals = Json::array();
+  double worst = 0;
+  for (std::size_t k = 0; k < pairs.pairs.size(); ++k) {
+    Json r = Json::object();
+    r["a"] = pairs.pairs[k][0];
+    r["b"] = pairs.pairs[k][1];
+    for (int s = 0; s < 2; ++s) {
+      const int v = pairs.pairs[k][std::size_t(s)];
+      const TriangleMesh& other = mesh[std::size_t(1 - s)];
+      const double d = (result.correspondence[std::size_t(s)][std::size_t(v)].position -
+                        other.positions[std::size_t(pairs.pairs[k][std::size_t(1 - s)])])
+                           .norm() /
+                       bounding_box_diagonal(other);
+      r[s == 0 ? "error_on_b" : "error_on_a"] = d;
+      worst = std::max(worst, d);
+    }
+    residuals.push_back(r);
+  }
+  j["feature_residuals"] = residuals;
+  report["map"] = j;
+
+  run.note(
+      "A " + std::to_string(map.n_faces(0)) + " / B " + std::to_string(map.n_faces(1)) +
+      " faces, valid from both sides; symmetric efficiency " + fixed(m.symmetric_efficiency, 4) +
+      " (symmetric Dirichlet " + fixed(4 / m.symmetric_efficiency, 3) + "), A->B " +
+      fixed(m.forward_efficiency, 4) + ", B->A " + fixed(m.backward_efficiency, 4) + "; overlay " +
+      std::to_string(result.overlay.triangles.size()) + " triangles" +
+      (pairs.pairs.empty() ? std::string()
+                           : "; largest feature residual " + fixed(worst, 5) + " of the diagonal"));
+  return result;
+}
+
+}  // namespace ism::pipeline

@@ -1,0 +1,81 @@
+#pragma once
+// ism-map's pipeline (the paper's subject): a continuous bijective
+// piecewise-linear map between two closed triangle meshes A and B of the same
+// genus. Compatible path networks on both (from feature pairs, with features
+// added where the topology needs them), both progressive meshes to their one
+// base, the trivial map between the two bases, then both sides refined
+// together to full resolution on the symmetric map core, optimising the
+// symmetric stretch one vertex at a time (refine_surfaces); validated from
+// both sides. The command-line tool runs it.
+#include "io/io.hpp"
+#include "map/common_refinement.hpp"
+#include "map/meta_mesh_sampler.hpp"
+#include "metrics/metrics.hpp"
+#include "tool/tool.hpp"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ism::pipeline {
+
+struct MapSurfacesOptions {
+  tool::InputMesh a, b;
+  /// Feature pairs ('IA IB' vertex indices or 'XA YA ZA XB YB ZB' points per
+  /// line, io::read_feature_pairs); empty: features chosen automatically.
+  std::string features;
+  /// Keep the features on each other (default: released, as in the paper).
+  bool hold_features = false;
+  /// Files written when named (each complete or not at all):
+  /// PREFIX_on_A.obj and PREFIX_on_B.obj (the common refinement placed on
+  /// each surface: same vertex and face lists), PREFIX_A_to_B.txt and
+  /// PREFIX_B_to_A.txt (per source vertex i, three rows `i j w`: the corners
+  /// j of the target face holding its image and their weights, summing to 1).
+  std::string output_prefix;
+  std::string meta_mesh;  // the meta-mesh file (README, "Meta-mesh files")
+  /// Morphs (need output_prefix): the overlay at (1 − t)·A + t·B for each t
+  /// in `morph` (PREFIX_morph.obj for one, PREFIX_morph_K.obj for several),
+  /// and morph_frames frames at t = k / (frames − 1) (PREFIX_frame_K.obj).
+  std::vector<double> morph;
+  int morph_frames = 0;
+  /// Per-vertex fields (io::read_vertex_field; need output_prefix) carried
+  /// through the map by barycentric interpolation: A's onto B's vertices
+  /// (PREFIX_field_on_B.txt) and B's onto A's (PREFIX_field_on_A.txt).
+  std::string transfer_field_a, transfer_field_b;
+  int threads = 0;  // planning threads of the refinement (0: all)
+};
+
+struct MapSurfacesResult {
+  MetaMesh meta;  // side 0 is A, side 1 is B (both refined to full resolution)
+  MapMeasures measures;
+  CommonRefinement overlay;
+  /// correspondence[0][i]: the image of A's vertex i on B (a face of B as
+  /// read, barycentric coordinates there, position); [1] the same from B.
+  std::array<std::vector<SurfacePoint>, 2> correspondence;
+};
+
+/// A per-vertex field of one surface carried onto the vertices of the other:
+/// row i is the field interpolated at images[i] (one side of
+/// input_correspondence, into the surface whose faces `faces` are).
+io::VertexField transfer_field(const io::VertexField& field, const std::vector<Triangle>& faces,
+                               const std::vector<SurfacePoint>& images);
+
+/// Runs the pipeline in `run` (stages, progress, report, the files named in
+/// `options`; run.finish() is the caller's). Throws tool::Failure with one
+/// line for unreadable or unusable meshes, surfaces of different topology,
+/// bad pairs, or a refinement that stops; no file is left partial.
+MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& options);
+
+/// The images of every vertex of side s of a meta-mesh whose sides are
+/// refinements of `input[s]` (the input's vertices first, same indices;
+/// further vertices on its faces), located on the input of the other side:
+/// result[s][i] for vertex i of input[s].
+std::array<std::vector<SurfacePoint>, 2> input_correspondence(
+    const MetaMesh& meta, const std::array<const TriangleMesh*, 2>& input);
+
+/// Writes correspondences (one side of input_correspondence) as rows `i j w`,
+/// three per source vertex, the target face's corners in `target`.
+void write_correspondence(const std::vector<SurfacePoint>& images, const TriangleMesh& target,
+                          const std::filesystem::path& path);
+
+}  // namespace ism::pipeline

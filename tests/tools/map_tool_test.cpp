@@ -1,0 +1,365 @@
+// ism-map as a user runs it: two surfaces (and pairs) in; the overlay pair,
+// the correspondences both ways, the meta-mesh and a report out. The outputs
+// are read back and checked here independently of the map code: the overlay
+// pair has one connectivity, lies on both surfaces, covers each exactly once
+// without a flipped triangle (a bijection); every correspondence row names a
+// face of the target and weights summing to 1. Bad input: one line, a
+// non-zero exit, no output file.
+#include "io/io.hpp"
+#include "map/meta_mesh.hpp"
+#include "mesh/mesh_check.hpp"
+#include "metrics/metrics.hpp"
+#include "open_surfaces.hpp"
+#include "shapes/shapes.hpp"
+#include "test_support.hpp"
+#include "tools_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+using ism::TriangleMesh;
+using ism::Vec3;
+using ism::test::report_number;
+using ism::test::run_tool;
+using ism::test::scratch_dir;
+using ism::test::slurp;
+
+struct Files {
+  fs::path dir, sphere, blob, torus, disc;
+};
+
+const Files& files() {
+  static const Files f = [] {
+    Files out;
+    out.dir = scratch_dir("map_tool");
+    out.sphere = out.dir / "sphere.obj";
+    out.blob = out.dir / "blob.obj";
+    out.torus = out.dir / "torus.obj";
+    out.disc = out.dir / "disc.obj";
+    ism::io::write_mesh(ism::shapes::sphere(500), out.sphere);
+    ism::io::write_mesh(ism::shapes::blob(700, 3), out.blob);
+    ism::io::write_mesh(ism::shapes::torus(600), out.torus);
+    const TriangleMesh disc =
+        ism::test::keep_faces(ism::shapes::sphere(500), [](const Vec3& c) { return c.z() < 0.5; });
+    ism::io::write_mesh(disc, out.disc);
+    return out;
+  }();
+  return f;
+}
+
+fs::path text_file(const std::string& name, const std::string& text) {
+  const fs::path p = files().dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+std::string quoted(const fs::path& p) {
+  std::string q = "'";
+  q += p.string();
+  q += "'";
+  return q;
+}
+
+// An OBJ of `v` and `f` lines as the file holds it, every coordinate at
+// double precision (the library's readers round coordinates to single
+// precision, as the tools read their inputs).
+TriangleMesh read_raw(const fs::path& p) {
+  std::ifstream in(p);
+  TriangleMesh m;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string tag;
+    words >> tag;
+    if (tag == "v") {
+      Vec3 x;
+      words >> x.x() >> x.y() >> x.z();
+      m.positions.push_back(x);
+    } else if (tag == "f") {
+      std::array<int, 3> t{};
+      words >> t[0] >> t[1] >> t[2];
+      m.triangles.push_back({t[0] - 1, t[1] - 1, t[2] - 1});
+    }
+  }
+  EXPECT_FALSE(m.triangles.empty()) << p;
+  return m;
+}
+
+// The surface as the tools read it (coordinates at single precision).
+TriangleMesh read_input(const fs::path& p) {
+  const ism::PolygonSoup soup = ism::io::read_polygon_soup(p);
+  TriangleMesh m;
+  m.positions = soup.positions;
+  for (const auto& f : soup.faces) m.triangles.push_back({f[0], f[1], f[2]});
+  return m;
+}
+
+double total_area(const TriangleMesh& m) {
+  double a = 0;
+  for (std::size_t f = 0; f < m.n_faces(); ++f) a += ism::face_area(m, f);
+  return a;
+}
+
+// The overlay placed on `surface`: every vertex on it, every triangle inside
+// one face of it with that face's orientation, and the triangles' areas
+// summing to the surface's, signed and unsigned (so no part of the surface is
+// covered twice or left out).
+void expect_overlay_on(const TriangleMesh& overlay, const TriangleMesh& surface, const char* name) {
+  const double diagonal = ism::bounding_box_diagonal(surface);
+  const auto near = ism::nearest_points(surface, overlay.positions);
+  double worst = 0;
+  for (const auto& p : near) worst = std::max(worst, std::sqrt(p.squared_distance));
+  EXPECT_LT(worst, 1e-9 * diagonal) << name << ": an overlay vertex off the surface";
+  std::vector<Vec3> centroids;
+  for (const auto& t : overlay.triangles)
+    centroids.push_back(
+        (overlay.positions[t[0]] + overlay.positions[t[1]] + overlay.positions[t[2]]) / 3);
+  const auto holder = ism::nearest_points(surface, centroids);
+  double signed_sum = 0, unsigned_sum = 0;
+  std::size_t flipped = 0;
+  for (std::size_t i = 0; i < overlay.n_faces(); ++i) {
+    const Vec3 n = ism::face_normal_scaled(overlay, i);
+    const Vec3 face_n = ism::face_normal_scaled(surface, std::size_t(holder[i].face)).normalized();
+    const double s = 0.5 * n.dot(face_n);
+    signed_sum += s;
+    unsigned_sum += 0.5 * n.norm();
+    if (s < -1e-14 * diagonal * diagonal) ++flipped;
+  }
+  const double area = total_area(surface);
+  EXPECT_EQ(flipped, 0u) << name << ": overlay triangles flipped against their face";
+  EXPECT_NEAR(signed_sum / area, 1, 1e-6) << name;
+  EXPECT_NEAR(unsigned_sum / area, 1, 1e-6) << name;
+}
+
+// Rows `i j w`, three per vertex of the source: j the corners of a face of
+// the target, weights in [0, 1] summing to 1; returns the images.
+std::vector<Vec3> read_correspondence(const fs::path& p, std::size_t sources,
+                                      const TriangleMesh& target) {
+  std::set<std::array<int, 3>> faces;
+  for (const auto& t : target.triangles) {
+    std::array<int, 3> s{t[0], t[1], t[2]};
+    std::sort(s.begin(), s.end());
+    faces.insert(s);
+  }
+  std::ifstream in(p);
+  std::vector<Vec3> images;
+  std::size_t i;
+  for (std::size_t v = 0; v < sources; ++v) {
+    std::array<int, 3> j{};
+    double sum = 0;
+    Vec3 image = Vec3::Zero();
+    for (int k = 0; k < 3; ++k) {
+      double w = -1;
+      if (!(in >> i >> j[std::size_t(k)] >> w)) {
+        ADD_FAILURE() << p << ": ends at vertex " << v;
+        return images;
+      }
+      EXPECT_EQ(i, v);
+      EXPECT_GE(w, 0);
+      EXPECT_LE(w, 1);
+      sum += w;
+      image += w * target.positions[std::size_t(j[std::size_t(k)])];
+    }
+    EXPECT_NEAR(sum, 1, 1e-12);
+    std::sort(j.begin(), j.end());
+    EXPECT_TRUE(faces.count(j)) << p << ": vertex " << v << " not mapped into a face";
+    images.push_back(image);
+  }
+  std::string rest;
+  EXPECT_FALSE(in >> rest) << p << ": more rows than vertices";
+  return images;
+}
+
+TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
+  const Files& f = files();
+  const fs::path prefix = f.dir / "sb", report = f.dir / "sb.json", meta = f.dir / "sb.meta";
+  const auto pairs = text_file("sb_pairs.txt", "# sphere blob\n0 0\n100 300\n");
+  const auto r = run_tool("ism-map", quoted(f.sphere) + " " + quoted(f.blob) + " --features " +
+                                         quoted(pairs) + " -o " + quoted(prefix) + " --meta-mesh " +
+                                         quoted(meta) + " --report " + quoted(report));
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string json = slurp(report);
+  const double efficiency = report_number(json, "symmetric_efficiency", "map");
+  EXPECT_GT(efficiency, 0.9);
+  EXPECT_LE(efficiency, 1);
+  EXPECT_NEAR(report_number(json, "symmetric_dirichlet", "map"), 4 / efficiency, 1e-9);
+  EXPECT_EQ(report_number(json, "features_given", "partition"), 2);
+
+  const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
+  const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
+                     on_b = read_raw(prefix.string() + "_on_B.obj");
+  ASSERT_EQ(on_a.triangles, on_b.triangles) << "the overlay pair's connectivity differs";
+  ASSERT_EQ(on_a.n_vertices(), on_b.n_vertices());
+  EXPECT_GT(on_a.n_faces(), a.n_faces() + b.n_faces());
+  EXPECT_EQ(double(on_a.n_faces()), report_number(json, "triangles", "overlay"));
+  expect_overlay_on(on_a, a, "on A");
+  expect_overlay_on(on_b, b, "on B");
+  // The overlay is a closed genus-0 surface itself.
+  const auto check = ism::prepare_mesh(ism::io::read_polygon_soup(prefix.string() + "_on_A.obj"));
+  EXPECT_TRUE(check.check.closed());
+  EXPECT_EQ(check.check.genus, 0);
+
+  const auto a_to_b = read_correspondence(prefix.string() + "_A_to_B.txt", a.n_vertices(), b);
+  const auto b_to_a = read_correspondence(prefix.string() + "_B_to_A.txt", b.n_vertices(), a);
+  // A's vertices are vertices of the overlay: their images on B are where
+  // the overlay pair places them.
+  ASSERT_EQ(a_to_b.size(), a.n_vertices());
+  std::map<std::array<double, 3>, std::size_t> overlay_vertex;
+  for (std::size_t v = 0; v < on_a.n_vertices(); ++v)
+    overlay_vertex[{on_a.positions[v].x(), on_a.positions[v].y(), on_a.positions[v].z()}] = v;
+  const double diagonal = ism::bounding_box_diagonal(b);
+  std::size_t found = 0;
+  for (std::size_t v = 0; v < a.n_vertices(); ++v) {
+    const auto it =
+        overlay_vertex.find({a.positions[v].x(), a.positions[v].y(), a.positions[v].z()});
+    if (it == overlay_vertex.end()) continue;
+    ++found;
+    EXPECT_LT((on_b.positions[it->second] - a_to_b[v]).norm(), 1e-9 * diagonal) << v;
+  }
+  EXPECT_GT(found, a.n_vertices() * 9 / 10);
+  EXPECT_EQ(b_to_a.size(), b.n_vertices());
+  // The meta-mesh file reads back and validates from both sides.
+  const ism::MetaMesh read = ism::read_meta_mesh(meta);
+  EXPECT_FALSE(ism::validate(read));
+}
+
+// Rows of numbers (a field file as written).
+std::vector<std::vector<double>> read_rows(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::vector<double>> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    rows.emplace_back();
+    double x;
+    while (words >> x) rows.back().push_back(x);
+  }
+  return rows;
+}
+
+TEST(IsmMap, HeldFeaturesMorphsAndFieldsCarriedBothWays) {
+  const Files& f = files();
+  const fs::path report = f.dir / "held.json", prefix = f.dir / "held";
+  const auto pairs = text_file("held_pairs.txt", "0 0\n100 300\n250 20\n");
+  const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
+  // Each surface's own coordinates as its field (written as read).
+  std::array<fs::path, 2> field{f.dir / "field_a.txt", f.dir / "field_b.txt"};
+  for (int s = 0; s < 2; ++s) {
+    std::ofstream out(field[std::size_t(s)]);
+    out << "# x y z\n";
+    out.precision(17);
+    for (const Vec3& p : (s ? b : a).positions)
+      out << p.x() << " " << p.y() << " " << p.z() << "\n";
+  }
+  const auto r =
+      run_tool("ism-map", quoted(f.sphere) + " " + quoted(f.blob) + " --features " + quoted(pairs) +
+                              " --hold-features -q -o " + quoted(prefix) + " --report " +
+                              quoted(report) + " --morph 0.5 --morph-frames 3 --transfer-field " +
+                              quoted(field[0]) + " --transfer-field-b " + quoted(field[1]));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const std::string json = slurp(report);
+  const std::size_t at = json.find("\"feature_residuals\"");
+  ASSERT_NE(at, std::string::npos);
+  for (const char* key : {"error_on_b", "error_on_a"}) {
+    std::size_t from = at;
+    for (int k = 0; k < 3; ++k) {
+      from = json.find(std::string("\"") + key + "\": ", from);
+      ASSERT_NE(from, std::string::npos);
+      from += std::strlen(key) + 4;
+      EXPECT_LT(std::strtod(json.c_str() + from, nullptr), 1e-12) << key << " " << k;
+    }
+  }
+  const auto a_to_b = read_correspondence(prefix.string() + "_A_to_B.txt", a.n_vertices(), b);
+  const auto b_to_a = read_correspondence(prefix.string() + "_B_to_A.txt", b.n_vertices(), a);
+  EXPECT_LT((a_to_b[100] - b.positions[300]).norm(), 1e-12);
+  EXPECT_LT((b_to_a[20] - a.positions[250]).norm(), 1e-12);
+
+  // Frames from A to B: the overlay on A, half way, on B; --morph 0.5 is the
+  // middle frame; every frame a closed surface.
+  const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
+                     on_b = read_raw(prefix.string() + "_on_B.obj");
+  std::array<TriangleMesh, 3> frame;
+  for (int k = 0; k < 3; ++k) {
+    const fs::path p = prefix.string() + "_frame_00" + std::to_string(k) + ".obj";
+    frame[std::size_t(k)] = read_raw(p);
+    ASSERT_EQ(frame[std::size_t(k)].triangles, on_a.triangles) << p;
+    EXPECT_TRUE(ism::prepare_mesh(ism::io::read_polygon_soup(p)).check.closed()) << p;
+  }
+  const TriangleMesh half = read_raw(prefix.string() + "_morph.obj");
+  for (std::size_t v = 0; v < on_a.n_vertices(); ++v) {
+    EXPECT_EQ(frame[0].positions[v], on_a.positions[v]);
+    EXPECT_EQ(frame[2].positions[v], on_b.positions[v]);
+    EXPECT_LT((frame[1].positions[v] - 0.5 * (on_a.positions[v] + on_b.positions[v])).norm(),
+              1e-12);
+    EXPECT_EQ(half.positions[v], frame[1].positions[v]);
+  }
+
+  // A's coordinates carried onto B's vertices are their images on A, and B's
+  // onto A's their images on B; A's feature goes to B's and back exactly.
+  const auto on_b_field = read_rows(prefix.string() + "_field_on_B.txt");
+  const auto on_a_field = read_rows(prefix.string() + "_field_on_A.txt");
+  ASSERT_EQ(on_b_field.size(), b.n_vertices());
+  ASSERT_EQ(on_a_field.size(), a.n_vertices());
+  for (std::size_t v = 0; v < b.n_vertices(); ++v)
+    EXPECT_LT((Vec3(on_b_field[v][0], on_b_field[v][1], on_b_field[v][2]) - b_to_a[v]).norm(),
+              1e-12);
+  for (std::size_t v = 0; v < a.n_vertices(); ++v)
+    EXPECT_LT((Vec3(on_a_field[v][0], on_a_field[v][1], on_a_field[v][2]) - a_to_b[v]).norm(),
+              1e-12);
+  const double diagonal = ism::bounding_box_diagonal(a);
+  for (const auto& [ia, ib] : {std::pair{0, 0}, {100, 300}, {250, 20}})
+    EXPECT_LT(
+        (Vec3(on_b_field[ib][0], on_b_field[ib][1], on_b_field[ib][2]) - a.positions[ia]).norm(),
+        1e-9 * diagonal);
+}
+
+// One line on stderr, a non-zero status, and none of the outputs.
+void expect_refusal(const std::string& args, const std::string& words) {
+  const Files& f = files();
+  const fs::path prefix = f.dir / "refused", meta = f.dir / "refused.meta",
+                 report = f.dir / "refused.json";
+  std::vector<fs::path> outputs = {meta, report};
+  for (const char* s : {"_on_A.obj", "_on_B.obj", "_A_to_B.txt", "_B_to_A.txt"})
+    outputs.push_back(prefix.string() + s);
+  for (const auto& p : outputs) fs::remove(p);
+  const auto r = run_tool("ism-map", args + " -o " + quoted(prefix) + " --meta-mesh " +
+                                         quoted(meta) + " --report " + quoted(report));
+  EXPECT_NE(r.status, 0);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(words), std::string::npos) << r.err;
+  for (const auto& p : outputs) EXPECT_FALSE(fs::exists(p)) << p;
+}
+
+TEST(IsmMap, RefusesBadInput) {
+  const Files& f = files();
+  const std::string two = quoted(f.sphere) + " " + quoted(f.blob);
+  expect_refusal(quoted(f.sphere) + " " + quoted(f.torus), "genus");
+  expect_refusal(quoted(f.sphere) + " " + quoted(f.disc), "boundary loop");
+  expect_refusal(two + " --features " + quoted(text_file("range.txt", "1 2\n3 999999\n")),
+                 "range.txt:2: vertex index 999999");
+  expect_refusal(two + " --features " + quoted(text_file("empty.txt", "# none\n")),
+                 "no feature pairs");
+  expect_refusal(two + " --features " + quoted(f.dir / "missing.txt"), "missing.txt");
+  expect_refusal(quoted(f.sphere) + " " + quoted(f.dir / "missing.obj"), "missing.obj");
+  expect_refusal(two + " --transfer-field " + quoted(text_file("short.txt", "1\n2\n")),
+                 "short.txt: 2 rows, the mesh has");
+  expect_refusal(two + " --transfer-field " + quoted(text_file("ragged.txt", "1 2\n3\n")),
+                 "ragged.txt:2: 1 values, the first row has 2");
+  expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
+  expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
+  // An output over an input is refused before any work, the input intact.
+  const std::string before = slurp(f.blob);
+  const auto r = run_tool("ism-map", two + " --meta-mesh " + quoted(f.blob));
+  EXPECT_NE(r.status, 0);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(slurp(f.blob), before);
+}
+
+}  // namespace

@@ -1,0 +1,48 @@
+// ism-map A B [--features PAIRS] -o PREFIX: a continuous bijective
+// piecewise-linear map between two closed surfaces of the same genus (the
+// paper's subject), both refined to full resolution on the symmetric map
+// core; the pipeline is pipeline/map_surfaces.hpp.
+#include "pipeline/map_surfaces.hpp"
+#include "tool/cli.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ism-map: a bijective map between two closed surfaces of the same genus, optimised for "
+      "symmetric stretch (the overlay pair, correspondences both ways, the meta-mesh)"};
+  ism::pipeline::MapSurfacesOptions o;
+  ism::tool::CommonOptions common;
+  app.add_option("a", o.a.path, "Surface A (.obj, .ply, .off, .stl)")->required();
+  app.add_option("b", o.b.path, "Surface B, closed, of A's genus")->required();
+  app.add_option("--features", o.features,
+                 "Feature pairs: 'IA IB' (0-based vertex indices) or 'XA YA ZA XB YB ZB' per "
+                 "line; default: features chosen automatically");
+  app.add_option("-o,--output", o.output_prefix,
+                 "Write PREFIX_on_A.obj and PREFIX_on_B.obj (the overlay on each surface, same "
+                 "vertex and face lists) and PREFIX_A_to_B.txt, PREFIX_B_to_A.txt (rows 'i j w', "
+                 "three per source vertex)");
+  app.add_option("--meta-mesh", o.meta_mesh, "Write the map as a meta-mesh file");
+  app.add_flag("--hold-features", o.hold_features,
+               "Keep the features on each other (default: released, optimised like any vertex)");
+  app.add_option("--morph", o.morph,
+                 "Write the overlay at (1 - T) A + T B as PREFIX_morph.obj (several T: "
+                 "PREFIX_morph_000.obj, ...)");
+  app.add_option("--morph-frames", o.morph_frames,
+                 "Write N frames from A (T = 0) to B (T = 1) as PREFIX_frame_000.obj, ...");
+  app.add_option("--transfer-field", o.transfer_field_a,
+                 "Per-vertex values of A (one row per vertex of A, any number of columns) carried "
+                 "onto B's vertices by barycentric interpolation: PREFIX_field_on_B.txt");
+  app.add_option("--transfer-field-b", o.transfer_field_b,
+                 "The same from B onto A's vertices: PREFIX_field_on_A.txt");
+  app.add_option("--threads", o.threads,
+                 "Threads planning the refinement's optimisations (0: all; the map is the same "
+                 "for any number)")
+      ->check(CLI::Range(0, 1024));
+  ism::tool::add_common_options(app, common);
+  CLI11_PARSE(app, argc, argv);
+  return ism::tool::run_main("ism-map", [&] {
+    ism::tool::Run run("ism-map", common);
+    ism::pipeline::map_surfaces(run, o);
+    run.finish();
+    return 0;
+  });
+}
