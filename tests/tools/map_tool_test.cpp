@@ -25,6 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 using ism::TriangleMesh;
 using ism::Vec3;
+using ism::test::quoted;
 using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
@@ -54,16 +55,7 @@ const Files& files() {
 }
 
 fs::path text_file(const std::string& name, const std::string& text) {
-  const fs::path p = files().dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
-
-std::string quoted(const fs::path& p) {
-  std::string q = "'";
-  q += p.string();
-  q += "'";
-  return q;
+  return ism::test::write_text(files().dir, name, text);
 }
 
 // An OBJ of `v` and `f` lines as the file holds it, every coordinate at

@@ -15,6 +15,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using ism::test::quoted;
 using ism::test::report_number;
 using ism::test::run_tool;
 using ism::test::scratch_dir;
@@ -44,16 +45,7 @@ const Files& files() {
 }
 
 fs::path text_file(const std::string& name, const std::string& text) {
-  const fs::path p = files().dir / name;
-  std::ofstream(p) << text;
-  return p;
-}
-
-std::string quoted(const fs::path& p) {
-  std::string q = "'";  // appended piecewise: GCC 12 warns (-Wrestrict) on "'" + ...
-  q += p.string();
-  q += "'";
-  return q;
+  return ism::test::write_text(files().dir, name, text);
 }
 
 TEST(PartitionTool, WritesPatchesBaseAndReport) {

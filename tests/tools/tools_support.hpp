@@ -26,6 +26,22 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
+/// A path in single quotes, for a tool's command line.
+inline std::string quoted(const std::filesystem::path& p) {
+  std::string q = "'";  // appended piecewise: GCC 12 warns (-Wrestrict) on "'" + ...
+  q += p.string();
+  q += "'";
+  return q;
+}
+
+/// Writes `text` to dir/name and returns the path.
+inline std::filesystem::path write_text(const std::filesystem::path& dir, const std::string& name,
+                                        const std::string& text) {
+  const std::filesystem::path p = dir / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p);
   std::stringstream s;
