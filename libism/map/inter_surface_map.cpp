@@ -93,6 +93,11 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
   index_and_measure();
 }
 
+void InterSurfaceMap::release_features() {
+  for (int s = 0; s < 2; ++s)
+    for (int v : input_[s].base_vertices) pinned_[s][v] = 0;
+}
+
 void InterSurfaceMap::index_and_measure() {
   const auto& d = options_.forward_density;
   if (!d.empty() && d.size() != meta_.side[1].n_vertices())

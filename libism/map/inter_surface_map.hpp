@@ -151,6 +151,10 @@ class InterSurfaceMap {
   std::size_t n_faces(int side) const { return meta_.side[side].faces.size(); }
   bool is_active(int side, int v) const { return !index_[side].vertex_faces[v].empty(); }
   bool is_pinned(int side, int v) const { return pinned_[side][v] != 0; }
+  /// Releases the features (InterSurfaceOptions::hold_features): from now on
+  /// the base vertices of both sides move like any vertex. The map is not
+  /// changed.
+  void release_features();
   std::size_t splits_applied(int side) const { return next_split_[side]; }
   std::size_t splits_total(int side) const { return input_[side].splits.size(); }
   /// Total area of a side's faces (its metric).

@@ -99,6 +99,9 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
                       !o.transfer_field_b.empty();
   if (extras && o.output_prefix.empty())
     throw tool::Failure(tool + ": morphs and transferred fields need an output prefix (-o PREFIX)");
+  if (!(o.release_features_at >= 0 && o.release_features_at <= 1))
+    throw tool::Failure(tool +
+                        ": --release-features-at takes a fraction of the refinement, 0 to 1");
   for (double t : o.morph)
     if (!std::isfinite(t)) throw tool::Failure(tool + ": a morph time is not a finite number");
   if (o.morph_frames == 1 || o.morph_frames < 0 || o.morph_frames > 10000)
@@ -138,6 +141,14 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   const std::array<TriangleMesh, 2> mesh{run.load_surface(o.a, needs, &check[0]),
                                          run.load_surface(o.b, needs, &check[1])};
   const std::array<std::string, 2> names{o.a.path, o.b.path};
+
+  for (int s = 0; s < 2; ++s)
+    if (!o.output_prefix.empty() &&
+        (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices))
+      run.note(names[std::size_t(s)] +
+               ": reading renumbered its vertices (coincident vertices welded or unreferenced "
+               "ones dropped); the correspondences' vertex indices are those of the surface as "
+               "read (ism-info --json describes it), not the file's");
 
   // The fields are read before the work, against the surfaces as read.
   std::array<io::VertexField, 2> field;
@@ -194,10 +205,11 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
 
   tool::Progress& refine_progress = run.stage("refine");
   InterSurfaceOptions map_options;
-  map_options.hold_features = o.hold_features;
+  map_options.hold_features = true;
   InterSurfaceMap map(side_from_pm(pms[0]), side_from_pm(pms[1]), map_options);
   SurfaceRefineOptions refine;
   refine.threads = o.threads;
+  refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;
   try {
@@ -265,6 +277,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   j.erase("efficiency_domain_to_surface");
   j.erase("efficiency_surface_to_domain");
   j["hold_features"] = o.hold_features;
+  if (!o.hold_features) j["release_features_at"] = o.release_features_at;
   j["seconds_refine"] = stats.seconds;
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();

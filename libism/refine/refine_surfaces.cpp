@@ -388,8 +388,14 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     bool hard;  // its growth above options.hard_split_growth
   };
   std::vector<Split> splits;
+  bool released = false;
   for (;;) {
     if (fraction(0) >= 1 && fraction(1) >= 1) break;
+    if (!released && options.release_features_at >= 0 &&
+        double(stats.splits) >= options.release_features_at * double(total_splits)) {
+      map.release_features();
+      released = true;
+    }
     // A batch of splits, then their new rings optimised together (by
     // colour, planned ahead), then the other side's vertices inside them.
     splits.clear();

@@ -97,6 +97,12 @@ struct SurfaceRefineOptions {
   /// as the task arena has, 1: none). The map refined is the same for every
   /// value.
   int threads = 0;
+  /// Features held by the map (InterSurfaceOptions::hold_features) are
+  /// released (InterSurfaceMap::release_features) before the first batch of
+  /// splits that starts at or after this fraction of all splits (0: at once;
+  /// negative: never). The paper uses its constraints to initialise the map
+  /// and drops them during the coarse-to-fine optimisation.
+  double release_features_at = -1;
   std::function<void(double)> progress;  // fraction of all splits done
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.

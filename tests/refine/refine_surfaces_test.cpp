@@ -155,6 +155,53 @@ TEST(RefineSurfaces, AfterLevelSeesEachLevelAndMayStopTheRefinement) {
   EXPECT_FALSE(stopped.validate());
 }
 
+// Features held, then released part of the way: the base vertices stay on
+// each other through the first part of the splits and move after it (and
+// never when release_features_at is negative).
+TEST(RefineSurfaces, HeldFeaturesAreReleasedPartOfTheWay) {
+  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
+  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  InterSurfaceOptions held;
+  held.hold_features = true;
+  const std::size_t total = pa.splits.size() + pb.splits.size();
+  // How many base vertices of side 0 still sit on their partner's vertex.
+  auto on_partners = [&](const InterSurfaceMap& map) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < pa.base_vertices.size(); ++i)
+      n += map.meta().side[0].location[pa.base_vertices[i]].vertex == pb.base_vertices[i];
+    return n;
+  };
+  for (const double at : {-1.0, 0.5}) {
+    SCOPED_TRACE(at);
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb), held);
+    SurfaceRefineOptions options;
+    options.release_features_at = at;
+    std::size_t splits = 0, moved_before = 0;
+    bool released_seen = false;
+    options.on_step = [&](const SurfaceStep& step) {
+      if (step.kind == SurfaceStep::split) ++splits;
+      const bool pinned = map.is_pinned(0, pa.base_vertices[0]);
+      // Pinned until the batch that starts at half the splits (a batch is
+      // at most split_batch long).
+      if (double(splits) < 0.5 * double(total)) EXPECT_TRUE(pinned) << splits;
+      if (!pinned) released_seen = true;
+      if (double(splits) < 0.5 * double(total)) moved_before += on_partners(map) != 6;
+    };
+    refine_surfaces(map, options);
+    EXPECT_EQ(moved_before, 0u);
+    EXPECT_FALSE(map.validate());
+    if (at < 0) {
+      EXPECT_FALSE(released_seen);
+      EXPECT_EQ(on_partners(map), 6u);
+    } else {
+      EXPECT_TRUE(released_seen);
+      EXPECT_LT(on_partners(map), 6u);  // released, the features moved
+    }
+  }
+}
+
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
 // gim-remesh's --core symmetric does): the same map at the start (its
 // measures equal SurfaceMap's), then every step valid and each gain the

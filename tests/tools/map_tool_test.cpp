@@ -182,6 +182,7 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_LE(efficiency, 1);
   EXPECT_NEAR(report_number(json, "symmetric_dirichlet", "map"), 4 / efficiency, 1e-9);
   EXPECT_EQ(report_number(json, "features_given", "partition"), 2);
+  EXPECT_EQ(report_number(json, "release_features_at", "map"), 0.5);  // the default
 
   const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
   const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
@@ -344,6 +345,7 @@ TEST(IsmMap, RefusesBadInput) {
                  "short.txt: 2 rows, the mesh has");
   expect_refusal(two + " --transfer-field " + quoted(text_file("ragged.txt", "1 2\n3\n")),
                  "ragged.txt:2: 1 values, the first row has 2");
+  expect_refusal(two + " --release-features-at 2", "--release-features-at takes a fraction");
   expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
   expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
   // An output over an input is refused before any work, the input intact.

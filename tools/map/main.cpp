@@ -22,7 +22,11 @@ int main(int argc, char** argv) {
                  "three per source vertex)");
   app.add_option("--meta-mesh", o.meta_mesh, "Write the map as a meta-mesh file");
   app.add_flag("--hold-features", o.hold_features,
-               "Keep the features on each other (default: released, optimised like any vertex)");
+               "Keep the features on each other throughout (default: released half way through "
+               "the refinement, see --release-features-at)");
+  app.add_option("--release-features-at", o.release_features_at,
+                 "Hold the features until this fraction (0 to 1) of the refinement's splits, then "
+                 "release them (default 0.5; 0: released from the start)");
   app.add_option("--morph", o.morph,
                  "Write the overlay at (1 - T) A + T B as PREFIX_morph.obj (several T: "
                  "PREFIX_morph_000.obj, ...)");
