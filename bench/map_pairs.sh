@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # ism-map on pairs of closed surfaces: every pair of ../shared/pairs with its
-# landmarks as features (released, and held), the closed model pairs of the
+# landmarks as features (released half way, the default; held; released from
+# the start), the closed model pairs of the
 # partition benchmark (automatic features), and cat <-> horse with 4 of its
 # 17 landmarks as features (the other 13 measured). Each run's wall time, CPU
 # time and peak memory from /usr/bin/time -v, the measures from the report,
@@ -33,6 +34,8 @@ for p in vase_A__vase_B hand_plain__hand_vulcan plane61__bird248 rabbit0__rabbit
   add "$p" "$pairs_dir/${p%%__*}.obj" "$pairs_dir/${p##*__}.obj" "$pairs_dir/$p.pairs.txt" -
   add "$p (held)" "$pairs_dir/${p%%__*}.obj" "$pairs_dir/${p##*__}.obj" \
     "$pairs_dir/$p.pairs.txt" - --hold-features
+  add "$p (released from the start)" "$pairs_dir/${p%%__*}.obj" "$pairs_dir/${p##*__}.obj" \
+    "$pairs_dir/$p.pairs.txt" - --release-features-at 0
 done
 grep -v '^#' "$pairs_dir/cat__horse.pairs.txt" | head -4 >"$work/cat4.txt"
 grep -v '^#' "$pairs_dir/cat__horse.pairs.txt" | tail -n +5 >"$work/cat13.txt"
