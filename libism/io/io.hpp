@@ -16,7 +16,9 @@
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace ism::io {
 
@@ -86,6 +88,24 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path);
 /// the extension, vertex and face indices as in the mesh. STL and Draco store
 /// triangles only: triangulate() first. Throws FileError.
 void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path);
+
+/// Writes an OBJ with one texture coordinate per vertex ('vt u v', faces
+/// 'f a/a b/b c/c'), everything to 17 significant digits. Throws FileError
+/// (also for a non-manifold mesh, as write_mesh()) and
+/// std::invalid_argument when `texcoords` is not one per vertex.
+void write_textured_obj(const TriangleMesh& mesh,
+                        const std::vector<std::array<double, 2>>& texcoords,
+                        const std::filesystem::path& path);
+
+/// Writes a glTF 2.0 binary file (.glb): one mesh, positions as 32-bit floats
+/// with their bounds, 32-bit indices in face order, and one morph target
+/// named `target_name` moving every vertex to `target` (same count), weight
+/// 0 (the mesh as given; weight 1: the target). Plain glTF, no extension:
+/// every viewer with morph targets plays it. Throws std::invalid_argument for
+/// an empty mesh, a bad face index or a target of another size, FileError
+/// when writing fails or the file would pass glTF's 4 GB.
+void write_morph_glb(const TriangleMesh& mesh, const std::vector<Vec3>& target,
+                     const std::filesystem::path& path, const std::string& target_name = "target");
 
 /// 8-bit RGB colour.
 using Rgb = std::array<unsigned char, 3>;

@@ -1,11 +1,12 @@
 // PLY (Turk's polygon file format): a text header of elements and their
 // properties up to "end_header", then the elements in order, as text or
-// binary (little or big endian). Of the vertex element we take x y z, of the
-// face element its vertex_indices (or vertex_index) list; every other element
-// and property is read past.
+// binary (little or big endian). Of the vertex element we take x y z (and
+// red green blue when all three are there), of the face element its vertex_indices (or
+// vertex_index) list; every other element and property is read past.
 #include "io/mesh_parse.hpp"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <optional>
@@ -137,7 +138,8 @@ Header read_header(std::string_view text, const std::string& name) {
 struct Layout {
   int vertex = -1, face = -1;  // element indices
   int x = -1, y = -1, z = -1;  // property indices in the vertex element
-  int corners = -1;            // list property of the face element
+  int red = -1, green = -1, blue = -1;
+  int corners = -1;  // list property of the face element
 };
 
 Layout layout_of(const Header& h, const std::string& name) {
@@ -149,10 +151,13 @@ Layout layout_of(const Header& h, const std::string& name) {
       l.vertex = int(e);
       for (std::size_t p = 0; p < el.properties.size(); ++p) {
         const Property& prop = el.properties[p];
-        int* slot = prop.name == "x"   ? &l.x
-                    : prop.name == "y" ? &l.y
-                    : prop.name == "z" ? &l.z
-                                       : nullptr;
+        int* slot = prop.name == "x"       ? &l.x
+                    : prop.name == "y"     ? &l.y
+                    : prop.name == "z"     ? &l.z
+                    : prop.name == "red"   ? &l.red
+                    : prop.name == "green" ? &l.green
+                    : prop.name == "blue"  ? &l.blue
+                                           : nullptr;
         if (!slot) continue;
         if (prop.count_type) fail(name, "vertex property " + prop.name + " is a list");
         *slot = int(p);
@@ -290,6 +295,22 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
   soup.positions.reserve(std::size_t(h.elements[l.vertex].count));
   soup.faces.reserve(std::size_t(h.elements[l.face].count));
   Values in(body, h.encoding, name, h.lines);
+  const bool coloured = l.red >= 0 && l.green >= 0 && l.blue >= 0;
+  // Colours as fractions: integer channels over their type's largest value.
+  std::array<double, 3> colour_scale{1, 1, 1};
+  if (coloured) {
+    const auto& props = h.elements[l.vertex].properties;
+    const int channel[3] = {l.red, l.green, l.blue};
+    for (int c = 0; c < 3; ++c) {
+      const Type t = props[std::size_t(channel[c])].type;
+      colour_scale[std::size_t(c)] = t == Type::uint8 || t == Type::int8     ? 1.0 / 255
+                                     : t == Type::uint16 || t == Type::int16 ? 1.0 / 65535
+                                     : t == Type::float32 || t == Type::float64
+                                         ? 1.0
+                                         : 1.0 / 4294967295.0;
+    }
+    soup.colors.reserve(std::size_t(h.elements[l.vertex].count));
+  }
   for (std::size_t e = 0; e < h.elements.size(); ++e) {
     const Element& el = h.elements[e];
     const bool vertex = int(e) == l.vertex, face = int(e) == l.face;
@@ -301,7 +322,7 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
       continue;
     }
     for (std::uint64_t i = 0; i < el.count; ++i) {
-      Vec3 p = Vec3::Zero();
+      Vec3 p = Vec3::Zero(), rgb = Vec3::Zero();
       for (std::size_t k = 0; k < el.properties.size(); ++k) {
         const Property& prop = el.properties[k];
         if (prop.count_type) {
@@ -324,10 +345,16 @@ PolygonSoup parse_ply(std::string_view bytes, const std::string& name) {
             if (int(k) == l.x) p.x() = v;
             if (int(k) == l.y) p.y() = v;
             if (int(k) == l.z) p.z() = v;
+            if (int(k) == l.red) rgb[0] = v * colour_scale[0];
+            if (int(k) == l.green) rgb[1] = v * colour_scale[1];
+            if (int(k) == l.blue) rgb[2] = v * colour_scale[2];
           }
         }
       }
-      if (vertex) soup.positions.push_back(p);
+      if (vertex) {
+        soup.positions.push_back(p);
+        if (coloured) soup.colors.push_back(rgb);
+      }
     }
   }
   return soup;

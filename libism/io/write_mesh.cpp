@@ -7,6 +7,8 @@
 #include <bit>
 #include <cstdint>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <unordered_set>
 
 namespace ism::io {
@@ -111,6 +113,28 @@ void write_mesh(const TriangleMesh& mesh, const std::filesystem::path& path) {
   if (!(ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl"))
     throw FileError(path.string() + ": unsupported output format (use .obj, .ply, .off or .stl)");
   write_faces<OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>>(mesh.positions, mesh.triangles, path);
+}
+
+void write_textured_obj(const TriangleMesh& mesh,
+                        const std::vector<std::array<double, 2>>& texcoords,
+                        const std::filesystem::path& path) {
+  if (texcoords.size() != mesh.n_vertices())
+    throw std::invalid_argument("write_textured_obj: " + std::to_string(texcoords.size()) +
+                                " texture coordinates for " + std::to_string(mesh.n_vertices()) +
+                                " vertices");
+  check_manifold(mesh.triangles, mesh.n_vertices(), path);
+  std::FILE* file = std::fopen(path.string().c_str(), "w");
+  if (!file) throw FileError(path.string() + ": cannot write the file");
+  std::fprintf(file, "# %zu vertices, %zu faces, a texture coordinate per vertex\n",
+               mesh.n_vertices(), mesh.n_faces());
+  for (const Vec3& p : mesh.positions)
+    std::fprintf(file, "v %.17g %.17g %.17g\n", p.x(), p.y(), p.z());
+  for (const auto& uv : texcoords) std::fprintf(file, "vt %.17g %.17g\n", uv[0], uv[1]);
+  for (const Triangle& t : mesh.triangles)
+    std::fprintf(file, "f %d/%d %d/%d %d/%d\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1,
+                 t[2] + 1);
+  const bool ok = !std::ferror(file);
+  if (std::fclose(file) != 0 || !ok) throw FileError(path.string() + ": cannot write the file");
 }
 
 void write_quad_mesh(const QuadMesh& mesh, const std::filesystem::path& path) {

@@ -184,7 +184,8 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   std::vector<Triangle> triangles;
   triangles.reserve(soup.faces.size());
   std::vector<int> polygon, distinct;  // (reused: one face at a time)
-  for (const auto& face : soup.faces) {
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    const auto& face = soup.faces[f];
     polygon.clear();
     for (int v : face) {
       int w = welded[v];
@@ -199,8 +200,10 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
       continue;
     }
     if (polygon.size() > 3) ++c.triangulated_polygons;
-    for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) {
       triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+      out.face_origin.push_back(int(f));
+    }
   }
 
   // Drop vertices no face uses.
@@ -217,6 +220,9 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
   }
   for (Triangle& t : triangles)
     for (int& v : t) v = compact[v];
+  out.position_vertex.resize(soup.positions.size());
+  for (std::size_t i = 0; i < soup.positions.size(); ++i)
+    out.position_vertex[i] = compact[std::size_t(welded[i])];
   mesh.triangles = std::move(triangles);
   c.unreferenced_vertices = positions.size() - mesh.positions.size();
   for (const Vec3& p : mesh.positions)

@@ -79,6 +79,10 @@ struct MeshCheck {
 struct PreparedMesh {
   TriangleMesh mesh;
   MeshCheck check;
+  /// Where the mesh came from: each triangle's face of the soup (a polygon
+  /// gives several), and each soup position's vertex (-1: dropped).
+  std::vector<int> face_origin;
+  std::vector<int> position_vertex;
 };
 
 PreparedMesh prepare_mesh(const PolygonSoup& soup);

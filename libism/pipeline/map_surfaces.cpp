@@ -71,21 +71,6 @@ void write_correspondence(const std::vector<SurfacePoint>& images, const Triangl
   if (!out) throw io::FileError(path.string() + ": write failed");
 }
 
-io::VertexField transfer_field(const io::VertexField& field, const std::vector<Triangle>& faces,
-                               const std::vector<SurfacePoint>& images) {
-  io::VertexField out;
-  out.columns = field.columns;
-  out.values.assign(images.size() * field.columns, 0.0);
-  for (std::size_t i = 0; i < images.size(); ++i) {
-    const Triangle& t = faces[std::size_t(images[i].face)];
-    for (int k = 0; k < 3; ++k)
-      for (std::size_t c = 0; c < field.columns; ++c)
-        out.values[i * field.columns + c] +=
-            images[i].bary[k] * field.values[std::size_t(t[std::size_t(k)]) * field.columns + c];
-  }
-  return out;
-}
-
 MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   const std::string tool = run.tool_name();
   for (const tool::InputMesh* in : {&o.a, &o.b})
@@ -95,10 +80,14 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   if (!o.output_prefix.empty())
     for (const char* suffix : {"_on_A.obj", "_on_B.obj", "_A_to_B.txt", "_B_to_A.txt"})
       outputs.push_back(o.output_prefix + suffix);
-  const bool extras = !o.morph.empty() || o.morph_frames > 0 || !o.transfer_field_a.empty() ||
-                      !o.transfer_field_b.empty();
+  const std::array<bool, 2> uv_from{o.transfer_uv_a, o.transfer_uv_b};
+  const std::array<bool, 2> colors_from{o.transfer_colors_a, o.transfer_colors_b};
+  const bool extras = !o.morph.empty() || o.morph_frames > 0 || o.morph_glb ||
+                      !o.transfer_field_a.empty() || !o.transfer_field_b.empty() || uv_from[0] ||
+                      uv_from[1] || colors_from[0] || colors_from[1];
   if (extras && o.output_prefix.empty())
-    throw tool::Failure(tool + ": morphs and transferred fields need an output prefix (-o PREFIX)");
+    throw tool::Failure(tool +
+                        ": morphs and transferred attributes need an output prefix (-o PREFIX)");
   if (!(o.release_features_at >= 0 && o.release_features_at <= 1))
     throw tool::Failure(tool +
                         ": --release-features-at takes a fraction of the refinement, 0 to 1");
@@ -130,6 +119,17 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
           o.output_prefix + (s == 0 ? "_field_on_B.txt" : "_field_on_A.txt");
       outputs.push_back(field_out[std::size_t(s)]);
     }
+  // [s]: side s's texture coordinates / colours on the other side's mesh.
+  std::array<std::string, 2> uv_out, colors_out;
+  for (int s = 0; s < 2; ++s) {
+    const std::string other = kName[1 - s];
+    if (uv_from[std::size_t(s)])
+      outputs.push_back(uv_out[std::size_t(s)] = o.output_prefix + "_" + other + "_uv.obj");
+    if (colors_from[std::size_t(s)])
+      outputs.push_back(colors_out[std::size_t(s)] = o.output_prefix + "_" + other + "_colors.ply");
+  }
+  const std::string glb_out = o.morph_glb ? o.output_prefix + "_morph.glb" : std::string();
+  if (o.morph_glb) outputs.push_back(glb_out);
   if (!o.meta_mesh.empty()) outputs.push_back(o.meta_mesh);
   for (const std::string& out : outputs) run.check_output(out);
 
@@ -137,28 +137,59 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       .tool = tool,
       .closed = true,
       .closed_advice = "maps between surfaces with boundary loops are not supported yet"};
-  std::array<MeshCheck, 2> check;
-  const std::array<TriangleMesh, 2> mesh{run.load_surface(o.a, needs, &check[0]),
-                                         run.load_surface(o.b, needs, &check[1])};
+  // (The soups kept where attributes are carried from.)
+  std::array<PolygonSoup, 2> soup;
+  std::array<PreparedMesh, 2> prepared;
+  for (int s = 0; s < 2; ++s) {
+    const bool attributes = uv_from[std::size_t(s)] || colors_from[std::size_t(s)];
+    prepared[std::size_t(s)] =
+        run.load_prepared(s == 0 ? o.a : o.b, needs, attributes ? &soup[std::size_t(s)] : nullptr);
+  }
+  // The attributes carried, read before the work.
+  std::array<std::vector<std::array<Texcoord, 3>>, 2> corner_uv;
+  std::array<io::VertexField, 2> colors;
+  for (int s = 0; s < 2; ++s) {
+    const std::string& from = (s == 0 ? o.a : o.b).path;
+    try {
+      if (uv_from[std::size_t(s)])
+        corner_uv[std::size_t(s)] =
+            corner_texcoords(soup[std::size_t(s)], prepared[std::size_t(s)]);
+    } catch (const std::invalid_argument& e) {
+      throw tool::Failure(from + ": cannot carry its texture coordinates: " + e.what());
+    }
+    try {
+      if (colors_from[std::size_t(s)])
+        colors[std::size_t(s)] = vertex_colors(soup[std::size_t(s)], prepared[std::size_t(s)]);
+    } catch (const std::invalid_argument& e) {
+      throw tool::Failure(from + ": cannot carry its colours: " + e.what());
+    }
+    soup[std::size_t(s)] = {};
+  }
+  const std::array<MeshCheck, 2> check{prepared[0].check, prepared[1].check};
+  const std::array<TriangleMesh, 2> mesh{std::move(prepared[0].mesh), std::move(prepared[1].mesh)};
   const std::array<std::string, 2> names{o.a.path, o.b.path};
+  auto renumbered = [&](int s) {
+    return check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices;
+  };
+  auto renumbering = [&](int s) {
+    return names[std::size_t(s)] +
+           ": reading renumbered its vertices (coincident vertices welded or unreferenced ones "
+           "dropped)";
+  };
 
   for (int s = 0; s < 2; ++s)
-    if (!o.output_prefix.empty() &&
-        (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices))
-      run.note(names[std::size_t(s)] +
-               ": reading renumbered its vertices (coincident vertices welded or unreferenced "
-               "ones dropped); the correspondences' vertex indices are those of the surface as "
-               "read (ism-info --json describes it), not the file's");
+    if (!o.output_prefix.empty() && renumbered(s))
+      run.note(renumbering(s) +
+               "; the correspondences' vertex indices are those of the surface as read "
+               "(ism-info --json describes it), not the file's");
 
   // The fields are read before the work, against the surfaces as read.
   std::array<io::VertexField, 2> field;
   for (int s = 0; s < 2; ++s)
     if (!field_in[std::size_t(s)].empty()) {
-      if (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices)
-        throw tool::Failure(names[std::size_t(s)] +
-                            ": reading renumbered its vertices (coincident vertices welded or "
-                            "unreferenced ones dropped), so the rows of " +
-                            field_in[std::size_t(s)] + " would belong to other vertices");
+      if (renumbered(s))
+        throw tool::Failure(renumbering(s) + ", so the rows of " + field_in[std::size_t(s)] +
+                            " would belong to other vertices");
       try {
         field[std::size_t(s)] =
             io::read_vertex_field(field_in[std::size_t(s)], mesh[std::size_t(s)].n_vertices());
@@ -178,11 +209,10 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
     if (pairs.pairs.empty())
       throw tool::Failure(o.features + ": no feature pairs (omit --features for automatic ones)");
     for (int s = 0; s < 2 && pairs.by_index; ++s)
-      if (check[std::size_t(s)].welded_vertices || check[std::size_t(s)].unreferenced_vertices)
-        throw tool::Failure(names[std::size_t(s)] +
-                            ": reading renumbered its vertices (coincident vertices welded or "
-                            "unreferenced ones dropped), so the pairs' vertex indices would name "
-                            "other vertices; give the pairs as points (X Y Z) instead");
+      if (renumbered(s))
+        throw tool::Failure(renumbering(s) +
+                            ", so the pairs' vertex indices would name other vertices; give the "
+                            "pairs as points (X Y Z) instead");
   }
 
   tool::Progress& partition_progress = run.stage("partition");
@@ -261,6 +291,33 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       tool::write_output(run, field_out[std::size_t(s)],
                          [&](const std::filesystem::path& p) { io::write_vertex_field(moved, p); });
     }
+  if (o.morph_glb)
+    tool::write_output(run, glb_out, [&](const std::filesystem::path& p) {
+      io::write_morph_glb(result.overlay.on_side(0), result.overlay.positions[1], p, "B");
+    });
+  Json transfer = Json::object();
+  for (int s = 0; s < 2; ++s) {
+    const std::size_t from = std::size_t(s), to = std::size_t(1 - s);
+    if (uv_from[from]) {
+      const TexcoordTransfer uv = transfer_texcoords(mesh[from].triangles, corner_uv[from],
+                                                     result.correspondence[to], mesh[to].triangles);
+      transfer[std::string("uv_seam_triangles_on_") + kName[to]] = uv.seam_triangles;
+      if (uv.seam_triangles)
+        run.note(std::to_string(uv.seam_triangles) + " of " + std::to_string(mesh[to].n_faces()) +
+                 " triangles of " + names[to] + " span a texture seam of " + names[from] +
+                 " (their corners lie in different charts): the texture is wrong inside them");
+      tool::write_output(run, uv_out[from], [&](const std::filesystem::path& p) {
+        io::write_textured_obj(mesh[to], uv.texcoords, p);
+      });
+    }
+    if (colors_from[from]) {
+      const io::VertexField moved =
+          transfer_field(colors[from], mesh[from].triangles, result.correspondence[to]);
+      tool::write_output(run, colors_out[from], [&](const std::filesystem::path& p) {
+        io::write_colored_ply(mesh[to], to_rgb(moved), {}, p);
+      });
+    }
+  }
   if (!o.meta_mesh.empty())
     tool::write_output(run, o.meta_mesh,
                        [&](const std::filesystem::path& p) { write_meta_mesh(result.meta, p); });
@@ -308,6 +365,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
     residuals.push_back(r);
   }
   j["feature_residuals"] = residuals;
+  if (!transfer.empty()) j["transfer"] = transfer;
   report["map"] = j;
 
   run.note(

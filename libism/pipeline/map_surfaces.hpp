@@ -11,6 +11,7 @@
 #include "map/common_refinement.hpp"
 #include "map/meta_mesh_sampler.hpp"
 #include "metrics/metrics.hpp"
+#include "pipeline/attribute_transfer.hpp"
 #include "tool/tool.hpp"
 
 #include <array>
@@ -49,6 +50,19 @@ struct MapSurfacesOptions {
   /// through the map by barycentric interpolation: A's onto B's vertices
   /// (PREFIX_field_on_B.txt) and B's onto A's (PREFIX_field_on_A.txt).
   std::string transfer_field_a, transfer_field_b;
+  /// A's texture coordinates (OBJ vt, per corner) carried onto B's vertices,
+  /// written as B with a coordinate per vertex (PREFIX_B_uv.obj); and B's
+  /// onto A (PREFIX_A_uv.obj). Coordinates are interpolated inside the face
+  /// of the source holding each image; B triangles whose corners land in
+  /// different texture charts of A are counted (report: seam_triangles).
+  bool transfer_uv_a = false, transfer_uv_b = false;
+  /// A's vertex colours (PLY red green blue, or OBJ 'v x y z r g b') carried
+  /// onto B's vertices, written as B with 8-bit vertex colours
+  /// (PREFIX_B_colors.ply); and B's onto A (PREFIX_A_colors.ply).
+  bool transfer_colors_a = false, transfer_colors_b = false;
+  /// The overlay on A with one morph target, the overlay on B, as glTF
+  /// binary (PREFIX_morph.glb; weight 0: A, 1: B).
+  bool morph_glb = false;
   int threads = 0;  // planning threads of the refinement (0: all)
 };
 
@@ -60,12 +74,6 @@ struct MapSurfacesResult {
   /// read, barycentric coordinates there, position); [1] the same from B.
   std::array<std::vector<SurfacePoint>, 2> correspondence;
 };
-
-/// A per-vertex field of one surface carried onto the vertices of the other:
-/// row i is the field interpolated at images[i] (one side of
-/// input_correspondence, into the surface whose faces `faces` are).
-io::VertexField transfer_field(const io::VertexField& field, const std::vector<Triangle>& faces,
-                               const std::vector<SurfacePoint>& images);
 
 /// Runs the pipeline in `run` (stages, progress, report, the files named in
 /// `options`; run.finish() is the caller's). Throws tool::Failure with one

@@ -61,6 +61,13 @@ TriangleMesh Run::load_surface(const std::filesystem::path& path, const MeshRequ
 
 TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& needs,
                                MeshCheck* check) {
+  PreparedMesh prepared = load_prepared(given, needs);
+  if (check) *check = prepared.check;
+  return std::move(prepared.mesh);
+}
+
+PreparedMesh Run::load_prepared(const InputMesh& given, const MeshRequirements& needs,
+                                PolygonSoup* kept) {
   const std::filesystem::path path = given.path;
   PolygonSoup soup;
   if (given.soup) {
@@ -86,8 +93,8 @@ TriangleMesh Run::load_surface(const InputMesh& given, const MeshRequirements& n
   for (const auto& repair : prepared.check.repairs()) note(path.string() + ": " + repair);
   for (const auto& warning : prepared.check.warnings())
     note(path.string() + ": warning: " + warning);
-  if (check) *check = prepared.check;
-  return std::move(prepared.mesh);
+  if (kept) *kept = std::move(soup);
+  return prepared;
 }
 
 Progress& Run::stage(const std::string& name) {

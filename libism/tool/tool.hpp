@@ -65,6 +65,10 @@ class Run {
   /// The same for a file or a soup given in memory (InputMesh).
   TriangleMesh load_surface(const InputMesh& input, const MeshRequirements& needs,
                             MeshCheck* check = nullptr);
+  /// The same, keeping the soup as read (its texture coordinates and
+  /// colours) and where each triangle and vertex came from in it.
+  PreparedMesh load_prepared(const InputMesh& input, const MeshRequirements& needs,
+                             PolygonSoup* soup = nullptr);
   /// Files that outputs must never overwrite.
   void add_input(const std::filesystem::path& path);
   /// Throws Failure now if `path` could not be written later (an input, a

@@ -76,6 +76,70 @@ TEST(MeshIo, AsciiPlyIsRead) {
   EXPECT_EQ(c.genus, 0);
 }
 
+TEST(MeshIo, TextureCoordinatesAndColoursAreRead) {
+  // OBJ: 'v x y z r g b', 'vt', corners i/t, i/t/n and relative, a quad, a
+  // face without coordinates after textured ones; the second copy of vertex
+  // 1 (index 4) is welded to it.
+  const fs::path obj = scratch("textured.obj");
+  std::ofstream(obj) << "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 0.5 0.5 0.5\n"
+                        "v 1 0 0 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 0.5 0.5\n"
+                        "f 1/1 3/3 5/2\nf 1/1/1 2/2/1 4/4/1\nf -4/-3 -3/-2 -2/-1 1/1\n";
+  const PolygonSoup soup = io::read_polygon_soup(obj);
+  ASSERT_EQ(soup.colors.size(), 5u);
+  EXPECT_EQ(soup.colors[3], Vec3(0.5, 0.5, 0.5));
+  ASSERT_EQ(soup.texcoords.size(), 4u);
+  ASSERT_EQ(soup.face_texcoords.size(), 3u);
+  EXPECT_EQ(soup.face_texcoords[0], (std::vector<int>{0, 2, 1}));
+  EXPECT_EQ(soup.face_texcoords[2], (std::vector<int>{1, 2, 3, 0}));
+  // Where each triangle and vertex came from: the quad gives two triangles
+  // of face 2; position 4 is vertex 1.
+  const PreparedMesh prepared = prepare_mesh(soup);
+  EXPECT_EQ(prepared.face_origin, (std::vector<int>{0, 1, 2, 2}));
+  EXPECT_EQ(prepared.position_vertex, (std::vector<int>{0, 1, 2, 3, 1}));
+  // A face without coordinates among textured ones: -1 at its corners; a
+  // colour on some vertices only: none kept.
+  const fs::path mixed = scratch("mixed.obj");
+  std::ofstream(mixed) << "v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\n"
+                          "f 1 2 3\nf 1/1 3/1 4/1\n";
+  const PolygonSoup m = io::read_polygon_soup(mixed);
+  EXPECT_TRUE(m.colors.empty());
+  EXPECT_EQ(m.face_texcoords, (std::vector<std::vector<int>>{{-1, -1, -1}, {0, 0, 0}}));
+  const fs::path bad = scratch("bad_vt.obj");
+  std::ofstream(bad) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n";
+  EXPECT_THROW(io::read_polygon_soup(bad), io::FileError);
+
+  // PLY: 8-bit channels scaled by 1/255, float ones as they are.
+  const fs::path ply = scratch("coloured.ply");
+  std::ofstream(ply) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                        "property float y\nproperty float z\nproperty uchar red\n"
+                        "property uchar green\nproperty float blue\nelement face 1\n"
+                        "property list uchar int vertex_indices\nend_header\n"
+                        "0 0 0 255 0 0.25\n1 0 0 51 102 1\n0 1 0 0 0 0\n3 0 1 2\n";
+  const PolygonSoup p = io::read_polygon_soup(ply);
+  ASSERT_EQ(p.colors.size(), 3u);
+  EXPECT_EQ(p.colors[0], Vec3(1, 0, 0.25));
+  EXPECT_NEAR(p.colors[1].x(), 0.2, 1e-15);
+  EXPECT_NEAR(p.colors[1].y(), 0.4, 1e-15);
+  EXPECT_TRUE(io::read_polygon_soup(scratch("ascii.ply")).colors.empty());
+}
+
+TEST(MeshIo, MorphGlbHoldsTheMeshAndItsTarget) {
+  const TriangleMesh m = octahedron();
+  std::vector<Vec3> target = m.positions;
+  for (Vec3& p : target) p *= 2;
+  const fs::path path = scratch("morph.glb");
+  io::write_morph_glb(m, target, path, "twice");
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GE(bytes.size(), 20u);
+  EXPECT_EQ(bytes.substr(0, 4), "glTF");
+  EXPECT_EQ(bytes.substr(16, 4), "JSON");
+  EXPECT_NE(bytes.find("\"targetNames\":[\"twice\"]"), std::string::npos);
+  EXPECT_EQ(bytes.size() % 4, 0u);
+  target.pop_back();
+  EXPECT_THROW(io::write_morph_glb(m, target, path), std::invalid_argument);
+}
+
 TEST(MeshIo, StlIsWeldedIntoOneSurface) {
   const fs::path path = scratch("welded.stl");
   io::write_mesh(octahedron(), path);

@@ -5,18 +5,22 @@
 // without a flipped triangle (a bijection); every correspondence row names a
 // face of the target and weights summing to 1. Bad input: one line, a
 // non-zero exit, no output file.
+#include "gltf_validator.hpp"
 #include "io/io.hpp"
 #include "map/meta_mesh.hpp"
 #include "mesh/mesh_check.hpp"
 #include "metrics/metrics.hpp"
 #include "open_surfaces.hpp"
+#include "report/json.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
 #include "tools_support.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -129,10 +133,15 @@ void expect_overlay_on(const TriangleMesh& overlay, const TriangleMesh& surface,
   EXPECT_NEAR(unsigned_sum / area, 1, 1e-6) << name;
 }
 
+// One source vertex's rows: the target face's corners and their weights.
+using Rows = std::array<std::pair<int, double>, 3>;
+
 // Rows `i j w`, three per vertex of the source: j the corners of a face of
-// the target, weights in [0, 1] summing to 1; returns the images.
+// the target, weights in [0, 1] summing to 1; returns the images (and the
+// rows, when asked).
 std::vector<Vec3> read_correspondence(const fs::path& p, std::size_t sources,
-                                      const TriangleMesh& target) {
+                                      const TriangleMesh& target,
+                                      std::vector<Rows>* rows = nullptr) {
   std::set<std::array<int, 3>> faces;
   for (const auto& t : target.triangles) {
     std::array<int, 3> s{t[0], t[1], t[2]};
@@ -157,6 +166,10 @@ std::vector<Vec3> read_correspondence(const fs::path& p, std::size_t sources,
       EXPECT_LE(w, 1);
       sum += w;
       image += w * target.positions[std::size_t(j[std::size_t(k)])];
+      if (rows) {
+        rows->resize(v + 1);
+        (*rows)[v][std::size_t(k)] = {j[std::size_t(k)], w};
+      }
     }
     EXPECT_NEAR(sum, 1, 1e-12);
     std::sort(j.begin(), j.end());
@@ -198,8 +211,35 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_TRUE(check.check.closed());
   EXPECT_EQ(check.check.genus, 0);
 
-  const auto a_to_b = read_correspondence(prefix.string() + "_A_to_B.txt", a.n_vertices(), b);
+  std::vector<Rows> rows_a_to_b;
+  const auto a_to_b =
+      read_correspondence(prefix.string() + "_A_to_B.txt", a.n_vertices(), b, &rows_a_to_b);
   const auto b_to_a = read_correspondence(prefix.string() + "_B_to_A.txt", b.n_vertices(), a);
+  // There and back: A's vertex v lies in the face of B named for it, whose
+  // corners the other file sends back to A; v comes back as their images'
+  // barycentric combination. The map is linear on the overlay's pieces, not
+  // on B's faces, so the return is not exact, but (a convex combination) it
+  // is never farther from v than the farthest corner's image, and with a
+  // continuous map those are near v.
+  {
+    const double diagonal_a = ism::bounding_box_diagonal(a);
+    double sum = 0, worst = 0;
+    for (std::size_t v = 0; v < a.n_vertices(); ++v) {
+      Vec3 back = Vec3::Zero();
+      double farthest = 0;
+      for (const auto& [j, w] : rows_a_to_b[v]) {
+        back += w * b_to_a[std::size_t(j)];
+        farthest = std::max(farthest, (b_to_a[std::size_t(j)] - a.positions[v]).norm());
+      }
+      const double error = (back - a.positions[v]).norm();
+      EXPECT_LE(error, farthest + 1e-12 * diagonal_a) << v;
+      sum += error;
+      worst = std::max(worst, error);
+    }
+    EXPECT_LT(sum / double(a.n_vertices()), 0.006 * diagonal_a)
+        << "mean A -> B -> A error";                                     // 0.0036
+    EXPECT_LT(worst, 0.02 * diagonal_a) << "largest A -> B -> A error";  // 0.0061
+  }
   // A's vertices are vertices of the overlay: their images on B are where
   // the overlay pair places them.
   ASSERT_EQ(a_to_b.size(), a.n_vertices());
@@ -313,6 +353,175 @@ TEST(IsmMap, HeldFeaturesMorphsAndFieldsCarriedBothWays) {
         1e-9 * diagonal);
 }
 
+// A sphere written with vertex colours ('v x y z r g b') and texture
+// coordinates per corner: uv(p) on faces whose centroid has x <= 0.3, and
+// uv(p) + (10, 0) on the others (a seam between two charts).
+Vec3 colour_of(const Vec3& p) {
+  return Vec3(0.5, 0.5, 0.5) + 0.2 * p;
+}
+std::array<double, 2> uv_of(const Vec3& p) {
+  return {0.3 + 0.2 * p.x() + 0.1 * p.y(), 0.5 + 0.15 * p.z() - 0.05 * p.x()};
+}
+bool second_chart(const TriangleMesh& m, const ism::Triangle& t) {
+  return (m.positions[t[0]] + m.positions[t[1]] + m.positions[t[2]]).x() / 3 > 0.3;
+}
+
+TEST(IsmMap, TexturesColoursAndAMorphTargetCarried) {
+  const Files& f = files();
+  const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
+  const fs::path textured = f.dir / "textured.obj", coloured = f.dir / "coloured_blob.ply",
+                 prefix = f.dir / "attr", report = f.dir / "attr.json";
+  {
+    std::ofstream out(textured);
+    out.precision(17);
+    for (const Vec3& p : a.positions) {
+      const Vec3 c = colour_of(p);
+      out << "v " << p.x() << " " << p.y() << " " << p.z() << " " << c.x() << " " << c.y() << " "
+          << c.z() << "\n";
+    }
+    for (int chart = 0; chart < 2; ++chart)
+      for (const Vec3& p : a.positions) {
+        const auto uv = uv_of(p);
+        out << "vt " << uv[0] + 10 * chart << " " << uv[1] << "\n";
+      }
+    for (const auto& t : a.triangles) {
+      const std::size_t offset = second_chart(a, t) ? a.n_vertices() : 0;
+      out << "f";
+      for (int v : t) out << " " << v + 1 << "/" << offset + std::size_t(v) + 1;
+      out << "\n";
+    }
+  }
+  // B with 8-bit colours, a function of position.
+  std::vector<ism::io::Rgb> b_colours;
+  for (const Vec3& p : b.positions) {
+    const Vec3 c = 255 * colour_of(p).cwiseMax(0).cwiseMin(1);
+    b_colours.push_back({static_cast<unsigned char>(c.x()), static_cast<unsigned char>(c.y()),
+                         static_cast<unsigned char>(c.z())});
+  }
+  ism::io::write_colored_ply(b, b_colours, {}, coloured);
+  const auto pairs = text_file("attr_pairs.txt", "0 0\n100 300\n");
+  const auto r = run_tool("ism-map", quoted(textured) + " " + quoted(coloured) + " --features " +
+                                         quoted(pairs) + " -q -o " + quoted(prefix) + " --report " +
+                                         quoted(report) +
+                                         " --transfer-uv --transfer-colors --transfer-colors-b "
+                                         "--morph-glb --morph-frames 2");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<Rows> a_to_b, b_to_a;
+  read_correspondence(prefix.string() + "_A_to_B.txt", a.n_vertices(), b, &a_to_b);
+  const auto b_images =
+      read_correspondence(prefix.string() + "_B_to_A.txt", b.n_vertices(), a, &b_to_a);
+
+  // Texture coordinates on B: uv of the image, in the chart of the face of A
+  // holding it; B's triangles whose corners land in both charts counted.
+  std::map<std::array<int, 3>, bool> chart_of_face;
+  for (const auto& t : a.triangles) {
+    std::array<int, 3> key{t[0], t[1], t[2]};
+    std::sort(key.begin(), key.end());
+    chart_of_face[key] = second_chart(a, t);
+  }
+  auto chart_of = [&](const Rows& rows) {
+    std::array<int, 3> key{rows[0].first, rows[1].first, rows[2].first};
+    std::sort(key.begin(), key.end());
+    return chart_of_face.at(key);
+  };
+  const ism::PolygonSoup with_uv = ism::io::read_polygon_soup(prefix.string() + "_B_uv.obj");
+  ASSERT_EQ(with_uv.positions.size(), b.n_vertices());
+  ASSERT_EQ(with_uv.texcoords.size(), b.n_vertices());
+  ASSERT_EQ(with_uv.faces.size(), b.n_faces());
+  for (std::size_t t = 0; t < b.n_faces(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(with_uv.faces[t][std::size_t(k)], b.triangles[t][std::size_t(k)]);
+      EXPECT_EQ(with_uv.face_texcoords[t][std::size_t(k)], b.triangles[t][std::size_t(k)]);
+    }
+  for (std::size_t v = 0; v < b.n_vertices(); ++v) {
+    auto expected = uv_of(b_images[v]);
+    if (chart_of(b_to_a[v])) expected[0] += 10;
+    EXPECT_NEAR(with_uv.texcoords[v][0], expected[0], 1e-9) << v;
+    EXPECT_NEAR(with_uv.texcoords[v][1], expected[1], 1e-9) << v;
+  }
+  std::size_t seams = 0;
+  for (const auto& t : b.triangles)
+    seams += chart_of(b_to_a[std::size_t(t[0])]) != chart_of(b_to_a[std::size_t(t[1])]) ||
+             chart_of(b_to_a[std::size_t(t[0])]) != chart_of(b_to_a[std::size_t(t[2])]);
+  EXPECT_GT(seams, 0u);
+  const std::string json = slurp(report);
+  EXPECT_EQ(report_number(json, "uv_seam_triangles_on_B", "transfer"), double(seams));
+
+  // Colours both ways, each within rounding to 8 bits of the interpolated
+  // source colours.
+  const ism::PolygonSoup b_painted = ism::io::read_polygon_soup(prefix.string() + "_B_colors.ply");
+  ASSERT_EQ(b_painted.colors.size(), b.n_vertices());
+  for (std::size_t v = 0; v < b.n_vertices(); ++v) {
+    Vec3 expected = Vec3::Zero();
+    for (const auto& [j, w] : b_to_a[v]) expected += w * colour_of(a.positions[std::size_t(j)]);
+    EXPECT_LT((b_painted.colors[v] - expected).cwiseAbs().maxCoeff(), 0.5 / 255 + 1e-9) << v;
+  }
+  const ism::PolygonSoup a_painted = ism::io::read_polygon_soup(prefix.string() + "_A_colors.ply");
+  ASSERT_EQ(a_painted.colors.size(), a.n_vertices());
+  for (std::size_t v = 0; v < a.n_vertices(); ++v) {
+    Vec3 expected = Vec3::Zero();
+    for (const auto& [j, w] : a_to_b[v])
+      for (int c = 0; c < 3; ++c)
+        expected[c] += w * b_colours[std::size_t(j)][std::size_t(c)] / 255.0;
+    EXPECT_LT((a_painted.colors[v] - expected).cwiseAbs().maxCoeff(), 0.5 / 255 + 1e-9) << v;
+  }
+
+  // The morph target pair: the overlay on A, and on B as its one target (as
+  // displacements), in single precision; indices the overlay's faces.
+  const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
+                     on_b = read_raw(prefix.string() + "_on_B.obj");
+  const fs::path glb = prefix.string() + "_morph.glb";
+  const std::string bytes = slurp(glb);
+  ASSERT_GE(bytes.size(), 28u);
+  std::uint32_t head[5];
+  std::memcpy(head, bytes.data(), sizeof head);
+  EXPECT_EQ(bytes.substr(0, 4), "glTF");
+  EXPECT_EQ(head[1], 2u);
+  EXPECT_EQ(head[2], bytes.size());
+  const auto gltf = ism::Json::parse(bytes.substr(20, head[3]));
+  const std::size_t bin = 20 + head[3] + 8;
+  const auto& primitive = gltf["meshes"][0]["primitives"][0];
+  const auto& accessors = gltf["accessors"];
+  auto floats = [&](int accessor) {
+    const auto& view = gltf["bufferViews"][accessors[accessor]["bufferView"].get<int>()];
+    std::vector<Vec3> out(accessors[accessor]["count"].get<std::size_t>());
+    for (std::size_t v = 0; v < out.size(); ++v) {
+      float xyz[3];
+      std::memcpy(xyz, bytes.data() + bin + view["byteOffset"].get<std::size_t>() + 12 * v, 12);
+      out[v] = Vec3(xyz[0], xyz[1], xyz[2]);
+    }
+    return out;
+  };
+  const auto base = floats(primitive["attributes"]["POSITION"].get<int>());
+  const auto moved = floats(primitive["targets"][0]["POSITION"].get<int>());
+  ASSERT_EQ(base.size(), on_a.n_vertices());
+  ASSERT_EQ(moved.size(), on_a.n_vertices());
+  for (std::size_t v = 0; v < base.size(); ++v) {
+    EXPECT_LT((base[v] - on_a.positions[v]).norm(), 1e-6) << v;
+    EXPECT_LT((base[v] + moved[v] - on_b.positions[v]).norm(), 1e-6) << v;
+  }
+  const auto& indices = accessors[primitive["indices"].get<int>()];
+  ASSERT_EQ(indices["count"].get<std::size_t>(), 3 * on_a.n_faces());
+  const auto& index_view = gltf["bufferViews"][indices["bufferView"].get<int>()];
+  for (std::size_t t = 0; t < on_a.n_faces(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t i;
+      std::memcpy(
+          &i, bytes.data() + bin + index_view["byteOffset"].get<std::size_t>() + 12 * t + 4 * k, 4);
+      EXPECT_EQ(int(i), on_a.triangles[t][std::size_t(k)]);
+    }
+
+  // The written meshes read back through ism-info: closed, of the inputs' genus.
+  for (const char* name : {"_B_uv.obj", "_B_colors.ply", "_A_colors.ply", "_frame_001.obj"}) {
+    const auto info = run_tool("ism-info", quoted(fs::path(prefix.string() + name)) + " --json");
+    ASSERT_EQ(info.status, 0) << name << ": " << info.err;
+    EXPECT_NE(info.out.find("\"closed\": true"), std::string::npos) << name;
+    EXPECT_NE(info.out.find("\"genus\": 0"), std::string::npos) << name;
+  }
+  ISM_REQUIRE_GLTF_VALIDATOR();
+  ISM_EXPECT_VALID_GLTF(std::vector<fs::path>({glb}), f.dir / "morph_validator.log");
+}
+
 // One line on stderr, a non-zero status, and none of the outputs.
 void expect_refusal(const std::string& args, const std::string& words) {
   const Files& f = files();
@@ -346,6 +555,10 @@ TEST(IsmMap, RefusesBadInput) {
   expect_refusal(two + " --transfer-field " + quoted(text_file("ragged.txt", "1 2\n3\n")),
                  "ragged.txt:2: 1 values, the first row has 2");
   expect_refusal(two + " --release-features-at 2", "--release-features-at takes a fraction");
+  expect_refusal(two + " --transfer-uv",
+                 "sphere.obj: cannot carry its texture coordinates: no "
+                 "texture coordinates (vt)");
+  expect_refusal(two + " --transfer-colors-b", "blob.obj: cannot carry its colours: no vertex");
   expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
   expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
   // An output over an input is refused before any work, the input intact.

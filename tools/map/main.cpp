@@ -37,6 +37,18 @@ int main(int argc, char** argv) {
                  "onto B's vertices by barycentric interpolation: PREFIX_field_on_B.txt");
   app.add_option("--transfer-field-b", o.transfer_field_b,
                  "The same from B onto A's vertices: PREFIX_field_on_A.txt");
+  app.add_flag("--morph-glb", o.morph_glb,
+               "Write the overlay on A with the overlay on B as its morph target (weight 0: A, "
+               "1: B) as glTF binary: PREFIX_morph.glb");
+  app.add_flag("--transfer-uv", o.transfer_uv_a,
+               "Carry A's texture coordinates (OBJ vt) onto B's vertices: PREFIX_B_uv.obj");
+  app.add_flag("--transfer-uv-b", o.transfer_uv_b,
+               "The same from B onto A's vertices: PREFIX_A_uv.obj");
+  app.add_flag("--transfer-colors", o.transfer_colors_a,
+               "Carry A's vertex colours (PLY red green blue, or OBJ 'v x y z r g b') onto B's "
+               "vertices: PREFIX_B_colors.ply");
+  app.add_flag("--transfer-colors-b", o.transfer_colors_b,
+               "The same from B onto A's vertices: PREFIX_A_colors.ply");
   app.add_option("--threads", o.threads,
                  "Threads planning the refinement's optimisations (0: all; the map is the same "
                  "for any number)")
