@@ -37,20 +37,14 @@ add "double_torus__eight_loop2 (1 pair: vertex 0, 0)" "$models_dir/double_torus.
 add "bunny_dragon" "$models_dir/bunny.obj" "$models_dir/dragon.obj" \
   "$root/bench/data/bunny__dragon.pairs.txt"
 printf '%s\n' "${rows[@]}" >"$work/rows"
-python3 - "$work" "$commit" <<'PY'
+python3 - "$work" "$commit" "$root" <<'PY'
 import json, os, platform, re, sys
-work, commit = sys.argv[1], sys.argv[2]
+work, commit, root = sys.argv[1], sys.argv[2], sys.argv[3]
 rows = open(os.path.join(work, "rows")).read().splitlines()
+sys.path.insert(0, os.path.join(root, "bench"))
+from gnu_time import time_of as gnu_time
 def time_of(name):
-    t = open(os.path.join(work, name + ".time")).read()
-    def field(label):
-        m = re.search(re.escape(label) + r":\s*(\S+)", t)
-        return m.group(1) if m else "0"
-    wall = field("Elapsed (wall clock) time (h:mm:ss or m:ss)")
-    parts = [float(x) for x in wall.split(":")]
-    seconds = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
-    cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
-    return seconds, cpu, float(field("Maximum resident set size (kbytes)")) / 1024
+    return gnu_time(os.path.join(work, name + ".time"))
 print(f"ism-partition: compatible networks and both progressive meshes; {os.cpu_count()} cores "
       f"({platform.machine()}), commit {commit}. Wall and CPU seconds and peak memory of the "
       "whole run (read, check, partition, progressive meshes, validation) from /usr/bin/time -v; "

@@ -325,17 +325,9 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   // The report: the map, the overlay, and how far each feature pair's image
   // lies from its partner (relative to the target's bounding-box diagonal).
   const MapMeasures& m = result.measures;
-  Json j = map_report(map, m, stats);
-  j["faces"] = Json::array({map.n_faces(0), map.n_faces(1)});
-  j.erase("domain_faces");
-  j["symmetric_dirichlet"] = 4 / m.symmetric_efficiency;
-  j["efficiency_a_to_b"] = m.forward_efficiency;
-  j["efficiency_b_to_a"] = m.backward_efficiency;
-  j.erase("efficiency_domain_to_surface");
-  j.erase("efficiency_surface_to_domain");
+  Json j = two_surface_map_report(map, m, stats);
   j["hold_features"] = o.hold_features;
   if (!o.hold_features) j["release_features_at"] = o.release_features_at;
-  j["seconds_refine"] = stats.seconds;
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();

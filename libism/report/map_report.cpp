@@ -22,17 +22,12 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
   return j;
 }
 
-Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats) {
+namespace {
+
+// What the symmetric core's operations did.
+void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStats& stats) {
   const MapOperationStats& o = map.stats();
   const double n = double(std::max<std::size_t>(1, o.optimizations));
-  Json j = Json::object();
-  j["valid"] = true;
-  j["core"] = "symmetric";
-  j["faces"] = map.n_faces(1);
-  j["domain_faces"] = map.n_faces(0);
-  j["symmetric_efficiency"] = m.symmetric_efficiency;
-  j["efficiency_domain_to_surface"] = m.forward_efficiency;
-  j["efficiency_surface_to_domain"] = m.backward_efficiency;
   j["optimizations"] = o.optimizations;
   j["moves"] = o.moves;
   j["fast_path_fraction"] = double(o.fast_path) / n;
@@ -51,6 +46,34 @@ Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceR
   j["discs_applied"] = stats.discs_applied;
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
+}
+
+}  // namespace
+
+Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats) {
+  Json j = Json::object();
+  j["valid"] = true;
+  j["core"] = "symmetric";
+  j["faces"] = map.n_faces(1);
+  j["domain_faces"] = map.n_faces(0);
+  j["symmetric_efficiency"] = m.symmetric_efficiency;
+  j["efficiency_domain_to_surface"] = m.forward_efficiency;
+  j["efficiency_surface_to_domain"] = m.backward_efficiency;
+  add_operations(j, map, stats);
+  return j;
+}
+
+Json two_surface_map_report(const InterSurfaceMap& map, const MapMeasures& m,
+                            const SurfaceRefineStats& stats) {
+  Json j = Json::object();
+  j["valid"] = true;
+  j["faces"] = Json::array({map.n_faces(0), map.n_faces(1)});
+  j["symmetric_efficiency"] = m.symmetric_efficiency;
+  j["symmetric_dirichlet"] = 4 / m.symmetric_efficiency;
+  j["efficiency_a_to_b"] = m.forward_efficiency;
+  j["efficiency_b_to_a"] = m.backward_efficiency;
+  j["seconds_refine"] = stats.seconds;
+  add_operations(j, map, stats);
   return j;
 }
 

@@ -33,6 +33,13 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
 /// The same for a map on the symmetric core (its side 1 the surface): faces
 /// of each side, efficiencies, and what the operations did.
 Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats);
+/// The "map" section of a map between two surfaces (side 0 A, side 1 B):
+/// faces [A, B], the symmetric efficiency and symmetric Dirichlet energy (=
+/// 4 / efficiency, both areas scaled to 1), both one-way efficiencies, the
+/// refinement's time and what the operations did. The map must have passed
+/// validate().
+Json two_surface_map_report(const InterSurfaceMap& map, const MapMeasures& m,
+                            const SurfaceRefineStats& stats);
 
 /// The "distance" section: PSNR, rms both ways and pooled, Hausdorff.
 Json distance_report(const SurfaceDistance& distance);
