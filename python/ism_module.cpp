@@ -5,6 +5,7 @@
 #include "io/features.hpp"
 #include "io/io.hpp"
 #include "pipeline/gim_remesh.hpp"
+#include "pipeline/map_surfaces.hpp"
 #include "pipeline/mesh_info.hpp"
 #include "pipeline/semireg.hpp"
 #include "pipeline/torus_remesh.hpp"
@@ -261,6 +262,31 @@ std::pair<Result, py::object> run_pipeline(const char* tool_name,
   return {std::move(*result), to_python(report)};
 }
 
+// One surface of two: a mesh file's path, or a tuple (V, F).
+tool::InputMesh one_surface(const py::object& surface, const char* name) {
+  if (py::isinstance<py::tuple>(surface) && py::len(surface) == 2) {
+    const py::tuple t = surface.cast<py::tuple>();
+    return {"(V, F)", soup_of(t[0], t[1])};
+  }
+  if (!is_path(surface))
+    throw py::type_error(std::string(name) + " must be a mesh file's path or a tuple (V, F)");
+  return {path_of(surface), std::nullopt};
+}
+
+// Where each vertex of one surface maps on the other: its face (n,) and
+// barycentric coordinates there (n, 3).
+py::tuple correspondence_arrays(const std::vector<SurfacePoint>& images) {
+  py::array_t<std::int64_t> face(py::ssize_t(images.size()));
+  py::array_t<double> bary({py::ssize_t(images.size()), py::ssize_t(3)});
+  std::int64_t* f = face.mutable_data();
+  double* b = bary.mutable_data();
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    f[i] = images[i].face;
+    for (int k = 0; k < 3; ++k) b[3 * i + std::size_t(k)] = images[i].bary[k];
+  }
+  return py::make_tuple(face, bary);
+}
+
 py::object named_tuple(const char* name, std::initializer_list<const char*> fields,
                        const char* doc) {
   py::list names;
@@ -340,6 +366,14 @@ PYBIND11_MODULE(ism, m) {
                   "torus_remesh's result: grid (V rows, U columns, 3) periodic geometry image, "
                   "vertices (U*V, 3) = grid row-major, quads (U*V, 4) and triangles (2*U*V, 3) on "
                   "them (README, 'Torus grids'), report (dict, as --report).");
+  const py::object map_result = named_tuple(
+      "MapResult", {"faces", "on_a", "on_b", "a_to_b", "b_to_a", "report"},
+      "map_surfaces' result: the overlay pair (faces (T, 3) and the positions of its vertices "
+      "on A and on B, (W, 3) each: the same triangles on both surfaces, the map affine on each), "
+      "a_to_b = (face (nA,), bary (nA, 3)): where each vertex of A lands on B (a face of B as "
+      "read and barycentric coordinates there; the rows of PREFIX_A_to_B.txt), b_to_a the same "
+      "from B, report (dict, as --report).");
+  m.attr("MapResult") = map_result;
   m.attr("GimRemeshResult") = gim_result;
   m.attr("SemiregResult") = semireg_result;
   m.attr("TorusRemeshResult") = torus_result;
@@ -594,6 +628,52 @@ PYBIND11_MODULE(ism, m) {
       "sweeps). output (quads as\n"
       ".obj .ply .off; triangles with triangulate=True or as .stl .drc; .glb triangles), image\n"
       "(.exr), dump_patches, meta_mesh, report are written when given.");
+
+  m.def(
+      "map_surfaces",
+      [map_result](const py::object& a, const py::object& b, const py::object& features,
+                   bool hold_features, double release_features_at, const py::object& output,
+                   const py::object& meta_mesh, const std::vector<double>& morph, int morph_frames,
+                   bool morph_glb, int threads, const py::object& report, bool quiet) {
+        pipeline::MapSurfacesOptions o;
+        o.a = one_surface(a, "a");
+        o.b = one_surface(b, "b");
+        if (!features.is_none()) {
+          if (!is_path(features))
+            throw py::type_error(
+                "features must be a pairs file's path (lines 'IA IB' or "
+                "'XA YA ZA XB YB ZB')");
+          o.features = path_of(features);
+        }
+        o.hold_features = hold_features;
+        o.release_features_at = release_features_at;
+        o.output_prefix = optional_path(output);
+        o.meta_mesh = optional_path(meta_mesh);
+        o.morph = morph;
+        o.morph_frames = morph_frames;
+        o.morph_glb = morph_glb;
+        o.threads = threads;
+        auto [r, rep] =
+            run_pipeline("ism-map", &pipeline::map_surfaces, o, common_options(report, quiet));
+        const auto n = py::ssize_t(r.overlay.positions[0].size());
+        return map_result(faces_array(r.overlay.triangles),
+                          positions_array(r.overlay.positions[0], {n}),
+                          positions_array(r.overlay.positions[1], {n}),
+                          correspondence_arrays(r.correspondence[0]),
+                          correspondence_arrays(r.correspondence[1]), rep);
+      },
+      "a"_a, "b"_a, py::kw_only(), "features"_a = py::none(), "hold_features"_a = false,
+      "release_features_at"_a = 0.5, "output"_a = py::none(), "meta_mesh"_a = py::none(),
+      "morph"_a = std::vector<double>{}, "morph_frames"_a = 0, "morph_glb"_a = false,
+      "threads"_a = 0, "report"_a = py::none(), "quiet"_a = false,
+      "map_surfaces(a, b, *, features=None, ...) -> MapResult(faces, on_a, on_b, a_to_b, "
+      "b_to_a, report)\n\n"
+      "A continuous bijective piecewise-linear map between two closed surfaces of the same\n"
+      "genus, as the ism-map tool (same options, same defaults, the same map): a and b are mesh\n"
+      "file paths or tuples (V, F); features a pairs file (default automatic). The features are\n"
+      "released at release_features_at of the refinement (0.5; 0 from the start) unless\n"
+      "hold_features. output (a prefix: the overlay pair and correspondence files, morphs with\n"
+      "morph / morph_frames / morph_glb), meta_mesh and report are written when given.");
 
   m.def(
       "read_geometry_image",
