@@ -6,7 +6,8 @@
 # pairs of bench/data/teapot__cup.pairs.txt), and cat <-> horse with 4 of its
 # 17 landmarks as features (the other 13 measured). Each run's wall time, CPU
 # time and peak memory from /usr/bin/time -v, the measures from the report,
-# the landmark errors from the correspondence files. Prints a Markdown table
+# the landmark errors from the correspondence files, the overlay pair
+# checked by overlay_check (bench/overlay_check.cpp). Prints a Markdown table
 # next to the published figures; needs python3.
 #   bench/map_pairs.sh > table.md
 #   ONLY="vase_A__vase_B" bench/map_pairs.sh      # one row
@@ -24,8 +25,11 @@ add() {  # name A B pairs-file(or -) landmarks-file(or -) [ism-map options...]
   local args=("$a" "$b" -o "$work/$key" --report "$work/$key.json" -q "$@")
   [ "$pairs" != "-" ] && args+=(--features "$pairs")
   printf '%s\n%s\n%s\n%s\n' "$name" "$a" "$b" "$landmarks" >"$work/$key.row"
-  if ! /usr/bin/time -v -o "$work/$key.time" timeout "$timeout" "$bin/ism-map" "${args[@]}" \
+  if /usr/bin/time -v -o "$work/$key.time" timeout "$timeout" "$bin/ism-map" "${args[@]}" \
       2>"$work/$key.err"; then
+    # The overlay pair re-read and checked independently of the map code.
+    "$bin/overlay_check" "$a" "$b" "$work/$key" >"$work/$key.check" 2>&1 || true
+  else
     echo "{}" >"$work/$key.json"
   fi
   rm -f "$work/$key"_on_?.obj  # large; the correspondences are kept
@@ -95,8 +99,8 @@ print(f"ism-map: maps between two closed surfaces, both refined on the symmetric
       "largest distance from a feature's image to its partner, relative to the bounding-box "
       "diagonal (0 when held).")
 print()
-print("| pair | faces A / B | given / added | refined A / B | overlay triangles | wall s | CPU s | peak MB | symmetric | A→B | B→A | Dirichlet | residual | landmarks | published |")
-print("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---|")
+print("| pair | faces A / B | given / added | refined A / B | overlay triangles | bijection (overlay_check) | wall s | CPU s | peak MB | symmetric | A→B | B→A | Dirichlet | residual | landmarks | published |")
+print("|---|---|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|")
 for key in map(str, range(1, count + 1)):
     name, a, b, landmarks = open(os.path.join(work, key + ".row")).read().splitlines()
     r = json.load(open(os.path.join(work, key + ".json")))
@@ -105,7 +109,7 @@ for key in map(str, range(1, count + 1)):
     if "map" not in r:
         err = open(os.path.join(work, key + ".err")).read().strip().splitlines()
         err = (err[-1] if err else "timed out").replace("|", "/")
-        print(f"| {name} | failed after {wall:.0f} s: {err} |||||||||||||| {pub} |")
+        print(f"| {name} | failed after {wall:.0f} s: {err} ||||||||||||||| {pub} |")
         continue
     m, p = r["map"], r["partition"]
     c = [i["check"] for i in r["inputs"]]
@@ -114,8 +118,17 @@ for key in map(str, range(1, count + 1)):
     if landmarks != "-":
         mean, n = landmark_error(key, a, b, landmarks)
         lm = f"mean {mean:.4f} over {n}"
+    check = open(os.path.join(work, key + ".check")).read().strip()
+    try:
+        k = json.loads(check)
+        worst = max(abs(k[s][f]) for s in ("on_a", "on_b")
+                    for f in ("signed_area_error", "unsigned_area_error"))
+        flips = k["on_a"]["flipped"] + k["on_b"]["flipped"]
+        bij = ("yes" if k["bijective"] else "**NO**") + f" (flipped {flips}, area error {worst:.1e})"
+    except ValueError:
+        bij = "check failed: " + check.replace("|", "/")
     print(f"| {name} | {c[0]['faces']} / {c[1]['faces']} | {p['features_given']} / {p['features_added']} "
-          f"| {m['faces'][0]} / {m['faces'][1]} | {m['overlay']['triangles']} | {wall:.1f} | {cpu:.1f} | {mb:.0f} "
+          f"| {m['faces'][0]} / {m['faces'][1]} | {m['overlay']['triangles']} | {bij} | {wall:.1f} | {cpu:.1f} | {mb:.0f} "
           f"| {m['symmetric_efficiency']:.4f} | {m['efficiency_a_to_b']:.4f} | {m['efficiency_b_to_a']:.4f} "
           f"| {m['symmetric_dirichlet']:.3f} | {residual:.4f} | {lm} | {pub} |")
 PY

@@ -194,4 +194,22 @@ struct NearestPoint {
 /// tree's first is taken. Throws std::invalid_argument as surface_distance().
 std::vector<NearestPoint> nearest_points(const TriangleMesh& mesh, const std::vector<Vec3>& points);
 
+/// How a triangle mesh lies on a surface (the overlay of a map placed on one
+/// of its two surfaces), measured with nearest points only, independently
+/// of any map: each vertex's distance to the surface, each triangle's
+/// orientation against the surface face nearest its centroid, and the
+/// triangles' areas, signed (projected on that face's normal) and not.
+/// A bijective overlay has every vertex on the surface, no flipped triangle,
+/// and both area sums equal to the surface's area.
+struct OverlayOnSurface {
+  double largest_distance = 0;  // relative to the surface's bounding-box diagonal
+  std::size_t flipped = 0;      // triangles facing against their face
+  double signed_area = 0, unsigned_area = 0, surface_area = 0;
+  /// Whether the three hold within `distance` (relative) and `area`
+  /// (relative to the surface's area).
+  bool bijective(double distance = 1e-9, double area = 1e-6) const;
+};
+/// Throws std::invalid_argument as nearest_points().
+OverlayOnSurface overlay_on_surface(const TriangleMesh& overlay, const TriangleMesh& surface);
+
 }  // namespace ism

@@ -96,41 +96,18 @@ TriangleMesh read_input(const fs::path& p) {
   return m;
 }
 
-double total_area(const TriangleMesh& m) {
-  double a = 0;
-  for (std::size_t f = 0; f < m.n_faces(); ++f) a += ism::face_area(m, f);
-  return a;
-}
-
-// The overlay placed on `surface`: every vertex on it, every triangle inside
-// one face of it with that face's orientation, and the triangles' areas
-// summing to the surface's, signed and unsigned (so no part of the surface is
-// covered twice or left out).
+// The overlay placed on `surface` (metrics' overlay_on_surface, nearest
+// points only): every vertex on it, every triangle inside one face of it
+// with that face's orientation, and the triangles' areas summing to the
+// surface's, signed and unsigned (so no part of the surface is covered twice
+// or left out).
 void expect_overlay_on(const TriangleMesh& overlay, const TriangleMesh& surface, const char* name) {
-  const double diagonal = ism::bounding_box_diagonal(surface);
-  const auto near = ism::nearest_points(surface, overlay.positions);
-  double worst = 0;
-  for (const auto& p : near) worst = std::max(worst, std::sqrt(p.squared_distance));
-  EXPECT_LT(worst, 1e-9 * diagonal) << name << ": an overlay vertex off the surface";
-  std::vector<Vec3> centroids;
-  for (const auto& t : overlay.triangles)
-    centroids.push_back(
-        (overlay.positions[t[0]] + overlay.positions[t[1]] + overlay.positions[t[2]]) / 3);
-  const auto holder = ism::nearest_points(surface, centroids);
-  double signed_sum = 0, unsigned_sum = 0;
-  std::size_t flipped = 0;
-  for (std::size_t i = 0; i < overlay.n_faces(); ++i) {
-    const Vec3 n = ism::face_normal_scaled(overlay, i);
-    const Vec3 face_n = ism::face_normal_scaled(surface, std::size_t(holder[i].face)).normalized();
-    const double s = 0.5 * n.dot(face_n);
-    signed_sum += s;
-    unsigned_sum += 0.5 * n.norm();
-    if (s < -1e-14 * diagonal * diagonal) ++flipped;
-  }
-  const double area = total_area(surface);
-  EXPECT_EQ(flipped, 0u) << name << ": overlay triangles flipped against their face";
-  EXPECT_NEAR(signed_sum / area, 1, 1e-6) << name;
-  EXPECT_NEAR(unsigned_sum / area, 1, 1e-6) << name;
+  const ism::OverlayOnSurface on = ism::overlay_on_surface(overlay, surface);
+  EXPECT_LT(on.largest_distance, 1e-9) << name << ": an overlay vertex off the surface";
+  EXPECT_EQ(on.flipped, 0u) << name << ": overlay triangles flipped against their face";
+  EXPECT_NEAR(on.signed_area / on.surface_area, 1, 1e-6) << name;
+  EXPECT_NEAR(on.unsigned_area / on.surface_area, 1, 1e-6) << name;
+  EXPECT_TRUE(on.bijective()) << name;
 }
 
 // One source vertex's rows: the target face's corners and their weights.
