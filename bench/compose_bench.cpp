@@ -44,13 +44,6 @@ double since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-Vec3 point_on(const MetaSide& side, const MetaLocation& at) {
-  if (at.vertex >= 0) return side.positions[std::size_t(at.vertex)];
-  const Triangle& t = side.faces[std::size_t(at.face)];
-  return at.bary[0] * side.positions[t[0]] + at.bary[1] * side.positions[t[1]] +
-         at.bary[2] * side.positions[t[2]];
-}
-
 // A location as a face and barycentric coordinates (a vertex: one of its faces).
 MetaPoint as_point(const MetaSide& side, const MetaLocation& at) {
   if (at.vertex < 0) return {at.face, at.bary};
@@ -135,7 +128,7 @@ int main(int argc, char** argv) {
       for (int s = 0; s < 2; ++s) {
         const MetaSide& from = map.meta().side[std::size_t(s)];
         const MetaSide& to = map.meta().side[std::size_t(1 - s)];
-        const Vec3 image = point_on(to, from.location[std::size_t(l[std::size_t(s)])]);
+        const Vec3 image = point_at(to, from.location[std::size_t(l[std::size_t(s)])]);
         e[std::size_t(s)].add((image - to.positions[std::size_t(l[std::size_t(1 - s)])]).norm() /
                                   diagonal[std::size_t(1 - s)],
                               landmarks.size());
@@ -214,7 +207,7 @@ int main(int argc, char** argv) {
           continue;
         }
         const MetaSide& to = maps[std::size_t(1 - s)]->meta().side[1];
-        const Vec3 image = point_on(to, {-1, there->face, there->bary});
+        const Vec3 image = point_at(to, {-1, there->face, there->bary});
         e[std::size_t(s)].add((image - to.positions[std::size_t(l[std::size_t(1 - s)])]).norm() /
                                   diagonal[std::size_t(1 - s)],
                               landmarks.size());

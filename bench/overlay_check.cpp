@@ -11,30 +11,7 @@
 #include "metrics/metrics.hpp"
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
-
-namespace {
-
-// An OBJ as the file holds it (the readers round to single precision).
-ism::TriangleMesh read_exact(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  if (!in) throw ism::io::FileError(path + ": cannot read the file");
-  const ism::PolygonSoup soup =
-      ism::io::parse_polygon_soup(bytes.str(), ism::io::MeshFormat::obj, path);
-  ism::TriangleMesh m;
-  m.positions = soup.positions;
-  for (const auto& f : soup.faces) {
-    if (f.size() != 3) throw ism::io::FileError(path + ": a face that is not a triangle");
-    m.triangles.push_back({f[0], f[1], f[2]});
-  }
-  return m;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 4) {
@@ -45,8 +22,8 @@ int main(int argc, char** argv) {
     const ism::TriangleMesh a = ism::prepare_mesh(ism::io::read_polygon_soup(argv[1])).mesh;
     const ism::TriangleMesh b = ism::prepare_mesh(ism::io::read_polygon_soup(argv[2])).mesh;
     const std::string prefix = argv[3];
-    const ism::TriangleMesh on_a = read_exact(prefix + "_on_A.obj");
-    const ism::TriangleMesh on_b = read_exact(prefix + "_on_B.obj");
+    const ism::TriangleMesh on_a = ism::io::read_triangles_exact(prefix + "_on_A.obj");
+    const ism::TriangleMesh on_b = ism::io::read_triangles_exact(prefix + "_on_B.obj");
     const bool same = on_a.triangles == on_b.triangles && on_a.n_vertices() == on_b.n_vertices();
     const ism::OverlayOnSurface ca = ism::overlay_on_surface(on_a, a);
     const ism::OverlayOnSurface cb = ism::overlay_on_surface(on_b, b);

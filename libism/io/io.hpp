@@ -57,6 +57,12 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 /// prefixes the messages.
 PolygonSoup parse_polygon_soup(std::string_view bytes, MeshFormat format, const std::string& name);
 
+/// The triangles of a mesh file with its coordinates exactly as stored (not
+/// rounded, nothing welded): for reading back double-precision outputs such
+/// as ism-map's overlay pair. Throws FileError as read_polygon_soup(), or
+/// for a face that is not a triangle.
+TriangleMesh read_triangles_exact(const std::filesystem::path& path);
+
 /// Upper bounds on what a mesh file holds, known before reading it.
 struct MeshFileSize {
   std::uint64_t bytes = 0;

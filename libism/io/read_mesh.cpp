@@ -138,6 +138,19 @@ PolygonSoup parse_polygon_soup(std::string_view bytes, MeshFormat format, const 
   return soup;
 }
 
+TriangleMesh read_triangles_exact(const std::filesystem::path& path) {
+  const PolygonSoup soup = parse_polygon_soup(read_bytes(path, regular_file_size(path)),
+                                              format_or_fail(path), path.string());
+  TriangleMesh mesh;
+  mesh.positions = soup.positions;
+  mesh.triangles.reserve(soup.faces.size());
+  for (const auto& f : soup.faces) {
+    if (f.size() != 3) throw FileError(path.string() + ": a face that is not a triangle");
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+  }
+  return mesh;
+}
+
 PolygonSoup read_polygon_soup(const std::filesystem::path& path) {
   const MeshFormat format = format_or_fail(path);
   const std::uint64_t size = regular_file_size(path);

@@ -64,6 +64,16 @@ struct MetaSide {
   std::size_t n_vertices() const { return location.size(); }
 };
 
+/// The point of an embedded side (positions given) at a location on it:
+/// its vertex, or the barycentric combination of its face's corners.
+inline Vec3 point_at(const MetaSide& side, const MetaLocation& at) {
+  if (at.vertex >= 0) return side.positions[std::size_t(at.vertex)];
+  const Triangle& t = side.faces[std::size_t(at.face)];
+  return at.bary[0] * side.positions[std::size_t(t[0])] +
+         at.bary[1] * side.positions[std::size_t(t[1])] +
+         at.bary[2] * side.positions[std::size_t(t[2])];
+}
+
 /// side[0] is M¹ (the domain of a SurfaceMap), side[1] M² (the surface).
 struct MetaMesh {
   std::array<MetaSide, 2> side;

@@ -25,14 +25,6 @@ std::string fixed(double x, int digits) {
   return buf;
 }
 
-// The point of side s at a location on it.
-Vec3 point_of(const MetaSide& side, const MetaLocation& at) {
-  if (at.vertex >= 0) return side.positions[std::size_t(at.vertex)];
-  const Triangle& t = side.faces[std::size_t(at.face)];
-  return at.bary[0] * side.positions[t[0]] + at.bary[1] * side.positions[t[1]] +
-         at.bary[2] * side.positions[t[2]];
-}
-
 }  // namespace
 
 std::array<std::vector<SurfacePoint>, 2> input_correspondence(
@@ -48,7 +40,7 @@ std::array<std::vector<SurfacePoint>, 2> input_correspondence(
     // The image's point on the refined other side, then the input face of
     // the other surface holding it (the refined faces lie in the input's).
     std::vector<Vec3> points(n);
-    for (std::size_t v = 0; v < n; ++v) points[v] = point_of(to, from.location[v]);
+    for (std::size_t v = 0; v < n; ++v) points[v] = point_at(to, from.location[v]);
     const std::vector<NearestPoint> near = nearest_points(target, points);
     auto& out = result[std::size_t(s)];
     out.reserve(n);

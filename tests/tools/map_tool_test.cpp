@@ -66,23 +66,7 @@ fs::path text_file(const std::string& name, const std::string& text) {
 // double precision (the library's readers round coordinates to single
 // precision, as the tools read their inputs).
 TriangleMesh read_raw(const fs::path& p) {
-  std::ifstream in(p);
-  TriangleMesh m;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string tag;
-    words >> tag;
-    if (tag == "v") {
-      Vec3 x;
-      words >> x.x() >> x.y() >> x.z();
-      m.positions.push_back(x);
-    } else if (tag == "f") {
-      std::array<int, 3> t{};
-      words >> t[0] >> t[1] >> t[2];
-      m.triangles.push_back({t[0] - 1, t[1] - 1, t[2] - 1});
-    }
-  }
+  TriangleMesh m = ism::io::read_triangles_exact(p);
   EXPECT_FALSE(m.triangles.empty()) << p;
   return m;
 }
