@@ -1,4 +1,5 @@
 #include "io/io.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -30,7 +31,7 @@ void check_manifold(const std::vector<std::array<int, Corners>>& faces, std::siz
     for (std::size_t k = 0; k < Corners; ++k) {
       const int a = face[k], b = face[(k + 1) % Corners];
       if (a < 0 || b < 0 || std::size_t(a) >= vertices || std::size_t(b) >= vertices || a == b ||
-          !directed.insert((std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b)).second)
+          !directed.insert(directed_edge_key(a, b)).second)
         throw FileError(path.string() + ": mesh is not a 2-manifold, cannot write it");
     }
 }

@@ -5,6 +5,7 @@
 // vertices in that chart; then they are located in M¹ and their edges
 // re-traced as straight segments of the chart.
 #include "map/surface_map.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -36,16 +37,13 @@ RigidMotion aligning(const Vec2& a, const Vec2& b, const Vec2& A, const Vec2& B)
   return m;
 }
 
-std::uint64_t edge_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-
 // Local half-edges (a, b) -> (local face, corner of a).
 std::unordered_map<std::uint64_t, std::pair<int, int>> half_edges(
     const std::vector<Triangle>& faces) {
   std::unordered_map<std::uint64_t, std::pair<int, int>> out;
   for (std::size_t i = 0; i < faces.size(); ++i)
-    for (int k = 0; k < 3; ++k) out[edge_key(faces[i][k], faces[i][(k + 1) % 3])] = {int(i), k};
+    for (int k = 0; k < 3; ++k)
+      out[directed_edge_key(faces[i][k], faces[i][(k + 1) % 3])] = {int(i), k};
   return out;
 }
 
@@ -95,7 +93,7 @@ std::optional<DiscLayout> SurfaceMap::disc_layout(const std::vector<int>& vertic
       queue.pop_front();
       const Triangle& t = disc.local[i];
       for (int k = 0; k < 3; ++k) {
-        const auto twin = half_edge.find(edge_key(t[(k + 1) % 3], t[k]));
+        const auto twin = half_edge.find(directed_edge_key(t[(k + 1) % 3], t[k]));
         if (twin == half_edge.end() || placed[twin->second.first]) continue;
         const auto [j, kj] = twin->second;
         motion[j] =
@@ -167,7 +165,7 @@ double SurfaceMap::set_disc_layout(const DiscLayout& disc) {
       if (it == local.end()) continue;
       const int lw = it->second;
       if (!disc.free[lw] || located[lw].face >= 0) continue;
-      const auto [i, k] = half_edge.at(edge_key(u, lw));
+      const auto [i, k] = half_edge.at(directed_edge_key(u, lw));
       const Start s = start_of(i, k);
       EdgeWalk walk;
       WalkEnd end;
@@ -207,7 +205,8 @@ double SurfaceMap::set_disc_layout(const DiscLayout& disc) {
   for (const auto& [where, walk] : traced) {
     const auto [i, k] = where;
     walks_[disc.face[i]][k] = walk;
-    const auto [j, kj] = half_edge.at(edge_key(disc.local[i][(k + 1) % 3], disc.local[i][k]));
+    const auto [j, kj] =
+        half_edge.at(directed_edge_key(disc.local[i][(k + 1) % 3], disc.local[i][k]));
     walks_[disc.face[j]][kj] = reversed(walk);
   }
   if (!faces_are_valid(disc.face)) return restore();

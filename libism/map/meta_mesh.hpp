@@ -8,6 +8,7 @@
 // check that both sides describe one overlay, and the form in which a map
 // leaves the library (write_meta_mesh).
 #include "map/surface_map.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <algorithm>
 #include <array>
@@ -87,11 +88,6 @@ std::optional<MetaMesh> meta_mesh(const SurfaceMap& map);
 
 /// The same meta-mesh with the two sides exchanged.
 MetaMesh swapped(const MetaMesh& meta);
-
-/// One number for the undirected edge {u, v} (for looking edges up).
-inline std::uint64_t undirected_edge_key(int u, int v) {
-  return (std::uint64_t(std::uint32_t(std::min(u, v))) << 32) | std::uint32_t(std::max(u, v));
-}
 
 /// Fills edges and face_edges of a side from its faces; false (nothing
 /// filled) if two faces share an edge the same way or an edge has no twin.

@@ -1,4 +1,5 @@
 #include "mesh/boundary.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,24 +11,16 @@
 #include <unordered_set>
 
 namespace ism {
-namespace {
-
-std::uint64_t directed_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-
-}  // namespace
-
 std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh) {
   std::unordered_set<std::uint64_t> directed;
   for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) directed.insert(directed_key(t[k], t[(k + 1) % 3]));
+    for (int k = 0; k < 3; ++k) directed.insert(directed_edge_key(t[k], t[(k + 1) % 3]));
   // Boundary half-edges a -> b: a face holds b -> a, nothing holds a -> b.
   std::unordered_map<int, int> next;
   for (const Triangle& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) {
       const int a = t[(k + 1) % 3], b = t[k];
-      if (directed.count(directed_key(a, b))) continue;
+      if (directed.count(directed_edge_key(a, b))) continue;
       if (!next.emplace(a, b).second)
         throw std::invalid_argument(
             "vertex " + std::to_string(a) +

@@ -2,6 +2,7 @@
 
 #include "mesh/boundary.hpp"
 
+#include "mesh/edge_key.hpp"
 #include "mesh/union_find.hpp"
 
 #include <algorithm>
@@ -35,11 +36,6 @@ PositionKey key_of(const Vec3& p) {
     std::memcpy(&key.bits[i], &v, sizeof v);
   }
   return key;
-}
-
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
 }
 
 // One use of an undirected edge by a face: the face and whether the face
@@ -76,7 +72,7 @@ std::vector<int> weld_targets(const PolygonSoup& soup, std::size_t& welded_count
   for (const auto& face : soup.faces)
     for (std::size_t k = 0; k < face.size(); ++k) {
       int a = int(sets.find(face[k])), b = int(sets.find(face[(k + 1) % face.size()]));
-      if (a != b) edge_uses.push_back(edge_key(a, b));
+      if (a != b) edge_uses.push_back(undirected_edge_key(a, b));
     }
   std::sort(edge_uses.begin(), edge_uses.end());
   std::vector<int> boundary;
@@ -249,7 +245,7 @@ PreparedMesh prepare_mesh(const PolygonSoup& soup) {
     const Triangle& t = mesh.triangles[f];
     for (int k = 0; k < 3; ++k) {
       int a = t[k], b = t[(k + 1) % 3];
-      uses_by_key.push_back({edge_key(a, b), {f, k, a < b}});
+      uses_by_key.push_back({undirected_edge_key(a, b), {f, k, a < b}});
     }
     std::array<int, 3> sorted = t;
     std::sort(sorted.begin(), sorted.end());

@@ -1257,7 +1257,8 @@ PathNetwork make_network(const TriangleMesh& surface, std::size_t original_verti
       std::swap(a, b);
       std::reverse(path.begin(), path.end());
     }
-    for (std::size_t k = 1; k < path.size(); ++k) cuts.insert(undirected_key(path[k - 1], path[k]));
+    for (std::size_t k = 1; k < path.size(); ++k)
+      cuts.insert(undirected_edge_key(path[k - 1], path[k]));
     net.domain_edges.push_back({a, b});
     net.paths.push_back(std::move(path));
   }

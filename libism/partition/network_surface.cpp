@@ -35,7 +35,7 @@ NetworkSurface::NetworkSurface(const TriangleMesh& surface,
 }
 
 bool NetworkSurface::is_network_edge(int a, int b) const {
-  return network_edges_.count(undirected_key(a, b)) != 0;
+  return network_edges_.count(undirected_edge_key(a, b)) != 0;
 }
 
 bool NetworkSurface::adjacent(int a, int b) const {
@@ -78,13 +78,13 @@ bool NetworkSurface::may_leave_through(int feature, int w) const {
 void NetworkSurface::add_path(const std::vector<int>& path) {
   for (std::size_t k = 1; k + 1 < path.size(); ++k) on_network_[path[k]] = 1;
   for (std::size_t k = 1; k < path.size(); ++k)
-    network_edges_.insert(undirected_key(path[k - 1], path[k]));
+    network_edges_.insert(undirected_edge_key(path[k - 1], path[k]));
 }
 
 void NetworkSurface::remove_path(const std::vector<int>& path) {
   for (std::size_t k = 1; k + 1 < path.size(); ++k) on_network_[path[k]] = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
-    network_edges_.erase(undirected_key(path[k - 1], path[k]));
+    network_edges_.erase(undirected_edge_key(path[k - 1], path[k]));
 }
 
 bool NetworkSurface::is_loop_edge(Mesh::EdgeHandle e) const {
@@ -111,7 +111,7 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
       stack.pop_back();
       for (const auto g : mesh_.fh_range(f)) {
         const int u = mesh_.from_vertex_handle(g).idx(), v = mesh_.to_vertex_handle(g).idx();
-        if (network_edges_.count(undirected_key(u, v))) continue;
+        if (network_edges_.count(undirected_edge_key(u, v))) continue;
         const auto next = mesh_.face_handle(mesh_.opposite_halfedge_handle(g));
         if (next.is_valid() && !frozen[next.idx()]) {
           frozen[next.idx()] = 1;
@@ -129,7 +129,7 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
       const auto f = mesh_.face_handle(mesh_.halfedge_handle(e, 0));
       if (f.is_valid() && std::size_t(f.idx()) < frozen.size() && frozen[f.idx()]) continue;
       if (class_[a] == VertexClass::centre || class_[b] == VertexClass::centre) continue;
-      if (network_edges_.count(undirected_key(a, b))) continue;
+      if (network_edges_.count(undirected_edge_key(a, b))) continue;
       const bool loop = is_loop_edge(e);
       if (loop ? on_network_[a] && on_network_[b] : blocked(a) && blocked(b))
         to_split.push_back({e, loop});
@@ -195,7 +195,7 @@ std::optional<TracedPath> NetworkSurface::shortest_path(const SearchEnd& from, c
   auto heuristic = [&](int v) { return (positions_[v] - goal).norm() * scale_; };
   auto step = [&](int a, int b) { return (positions_[a] - positions_[b]).norm() * scale_; };
   auto crosses = [&](int a, int b) {
-    return parity && parity->crossing->count(undirected_key(a, b)) ? 1 : 0;
+    return parity && parity->crossing->count(undirected_edge_key(a, b)) ? 1 : 0;
   };
   auto enter_sector = [&](int v) {
     for (std::size_t k = 0; k < to.ring.size(); ++k)
@@ -290,13 +290,13 @@ std::vector<EdgeSet> NetworkSurface::complement_cycles() const {
     for (const auto w : mesh_.vv_range(Mesh::VertexHandle(v)))
       if (!seen[w.idx()]) {
         seen[w.idx()] = 1;
-        tree.insert(undirected_key(v, w.idx()));
+        tree.insert(undirected_edge_key(v, w.idx()));
         queue.push_back(w.idx());
       }
   }
   // Dual spanning forest across the edges on neither the network nor the tree.
   auto crossable = [&](int a, int b) {
-    const auto key = undirected_key(a, b);
+    const auto key = undirected_edge_key(a, b);
     return !network_edges_.count(key) && !tree.count(key);
   };
   const std::size_t nf = mesh_.n_faces();
@@ -317,7 +317,7 @@ std::vector<EdgeSet> NetworkSurface::complement_cycles() const {
         if (depth[g] >= 0) continue;
         depth[g] = depth[f.idx()] + 1;
         parent_face[g] = f.idx();
-        parent_edge[g] = undirected_key(a, b);
+        parent_edge[g] = undirected_edge_key(a, b);
         cotree.insert(parent_edge[g]);
         faces.push_back(g);
       }
@@ -328,8 +328,8 @@ std::vector<EdgeSet> NetworkSurface::complement_cycles() const {
   for (const auto e : mesh_.edges()) {
     const auto h = mesh_.halfedge_handle(e, 0);
     const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
-    if (!crossable(a, b) || cotree.count(undirected_key(a, b))) continue;
-    EdgeSet crossing{undirected_key(a, b)};
+    if (!crossable(a, b) || cotree.count(undirected_edge_key(a, b))) continue;
+    EdgeSet crossing{undirected_edge_key(a, b)};
     int f = mesh_.face_handle(h).idx();
     int g = mesh_.face_handle(mesh_.opposite_halfedge_handle(h)).idx();
     while (f != g) {

@@ -2,6 +2,7 @@
 // Internal to partition: faces of a surface grouped into the regions that a
 // set of cut edges separates, and the directed-edge lookup both the tracer
 // and the validator use.
+#include "mesh/edge_key.hpp"
 #include "mesh/triangle_mesh.hpp"
 
 #include <cstdint>
@@ -10,13 +11,6 @@
 #include <vector>
 
 namespace ism::partition_detail {
-
-inline std::uint64_t directed_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-inline std::uint64_t undirected_key(int a, int b) {
-  return a < b ? directed_key(a, b) : directed_key(b, a);
-}
 
 /// The face that holds each directed edge a -> b (counter-clockwise) of a
 /// triangle mesh, looked up by its two vertices: per vertex its outgoing

@@ -88,7 +88,7 @@ class NetworkTracer {
                              ": surface vertices " + std::to_string(fa.idx()) + " and " +
                              std::to_string(fb.idx()) + " are not joined by an edge");
       direct_[it->second] = 1;
-      reserved_.insert(undirected_key(fa.idx(), fb.idx()));
+      reserved_.insert(undirected_edge_key(fa.idx(), fb.idx()));
       if (given_end_.size() < mesh_.n_vertices()) given_end_.resize(mesh_.n_vertices(), 0);
       given_end_[fa.idx()] = given_end_[fb.idx()] = 1;
     }
@@ -500,7 +500,7 @@ void NetworkTracer::insert(const Candidate& c) {
   paths_[c.edge] = c.vertices;
   for (std::size_t k = 0; k < c.vertices.size(); ++k) {
     on_network_[c.vertices[k]] = 1;
-    if (k) network_edges_.insert(undirected_key(c.vertices[k - 1], c.vertices[k]));
+    if (k) network_edges_.insert(undirected_edge_key(c.vertices[k - 1], c.vertices[k]));
   }
   ++traced_;
 }
@@ -511,8 +511,8 @@ void NetworkTracer::split_edges_between_network_vertices() {
     const VH a = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 0));
     const VH b = mesh_.to_vertex_handle(mesh_.halfedge_handle(e, 1));
     if (on_network_[a.idx()] && on_network_[b.idx()] &&
-        !network_edges_.count(undirected_key(a.idx(), b.idx())) &&
-        !reserved_.count(undirected_key(a.idx(), b.idx())))
+        !network_edges_.count(undirected_edge_key(a.idx(), b.idx())) &&
+        !reserved_.count(undirected_edge_key(a.idx(), b.idx())))
       to_split.push_back(e);
   }
   for (auto e : to_split) {
@@ -593,7 +593,7 @@ PathNetwork NetworkTracer::run(const std::function<void(double)>& progress) {
         for (const auto& p : paths_) {
           for (std::size_t k = 0; k < p.size(); ++k) {
             on_network_[p[k]] = 1;
-            if (k) network_edges_.insert(undirected_key(p[k - 1], p[k]));
+            if (k) network_edges_.insert(undirected_edge_key(p[k - 1], p[k]));
           }
         }
         deferred.push_back(c.edge);

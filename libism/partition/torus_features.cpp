@@ -39,8 +39,6 @@
 namespace ism {
 namespace {
 
-using partition_detail::directed_key;
-using partition_detail::undirected_key;
 
 const char* const kNeed = "the 3x3 torus domain needs a closed genus-1 surface";
 
@@ -73,11 +71,12 @@ Topology closed_genus1_topology(const TriangleMesh& surface) {
         throw PartitionError("triangle " + std::to_string(f) +
                              " has a repeated or out-of-range corner; " + kNeed);
       topo.used[a] = 1;
-      if (!face_of.emplace(directed_key(a, b), f).second)
+      if (!face_of.emplace(directed_edge_key(a, b), f).second)
         throw PartitionError("edge " + std::to_string(a) + "-" + std::to_string(b) +
                              " is used twice in the same direction (not an oriented manifold); " +
                              kNeed);
-      auto [it, inserted] = edge_of.try_emplace(undirected_key(a, b), int(topo.edge_ends.size()));
+      auto [it, inserted] =
+          edge_of.try_emplace(undirected_edge_key(a, b), int(topo.edge_ends.size()));
       if (inserted) {
         topo.edge_ends.push_back({std::min(a, b), std::max(a, b)});
         topo.edge_faces.push_back({-1, -1});
@@ -115,7 +114,7 @@ Topology closed_genus1_topology(const TriangleMesh& surface) {
       do {
         const Triangle& t = surface.triangles[g];
         const int c = int(std::find(t.begin(), t.end(), v) - t.begin());
-        g = face_of.at(directed_key(v, t[(c + 2) % 3]));  // across the edge entering v
+        g = face_of.at(directed_edge_key(v, t[(c + 2) % 3]));  // across the edge entering v
       } while (++count <= incident[v] && g != f);
       if (count != incident[v])
         throw PartitionError("vertex " + std::to_string(v) + " is not manifold; " + kNeed);

@@ -134,7 +134,7 @@ std::optional<std::string> validate_network(const PathNetwork& network,
       if ((l >= 0 && network.face_patch[std::size_t(l)] != left->second) ||
           (r >= 0 && network.face_patch[std::size_t(r)] != right->second))
         return name + " separates the wrong patches (orientation or order differs from the domain)";
-      if (!cuts.insert(undirected_key(path[k - 1], path[k])).second)
+      if (!cuts.insert(undirected_edge_key(path[k - 1], path[k])).second)
         return name + " reuses an edge";
     }
   }
@@ -142,7 +142,7 @@ std::optional<std::string> validate_network(const PathNetwork& network,
   // The surface's boundary lies on paths: no patch reaches it elsewhere.
   std::optional<std::string> open_edge;
   faces.for_each([&](int a, int b, int) {
-    if (!open_edge && faces(b, a) < 0 && !cuts.count(undirected_key(a, b)))
+    if (!open_edge && faces(b, a) < 0 && !cuts.count(undirected_edge_key(a, b)))
       open_edge = "boundary edge " + std::to_string(a) + "-" + std::to_string(b) + " is on no path";
   });
   if (open_edge) return open_edge;
@@ -167,7 +167,8 @@ std::optional<std::string> validate_network(const PathNetwork& network,
     ++fcount[r];
     for (int k = 0; k < 3; ++k) {
       verts[r].insert(surface.triangles[f][k]);
-      edges[r].insert(undirected_key(surface.triangles[f][k], surface.triangles[f][(k + 1) % 3]));
+      edges[r].insert(
+          undirected_edge_key(surface.triangles[f][k], surface.triangles[f][(k + 1) % 3]));
     }
   }
   for (int r = 0; r < count; ++r) {

@@ -1,5 +1,6 @@
 #include "pipeline/attribute_transfer.hpp"
 
+#include "mesh/edge_key.hpp"
 #include "mesh/union_find.hpp"
 
 #include <algorithm>
@@ -67,9 +68,7 @@ TexcoordTransfer transfer_texcoords(const std::vector<Triangle>& source_faces,
   std::unordered_map<std::uint64_t, std::pair<std::size_t, int>>
       directed;  // (a, b) -> face, corner
   directed.reserve(3 * source_faces.size());
-  auto key = [](int a, int b) {
-    return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-  };
+  const auto key = directed_edge_key;
   for (std::size_t f = 0; f < source_faces.size(); ++f)
     for (int k = 0; k < 3; ++k)
       directed[key(source_faces[f][std::size_t(k)], source_faces[f][std::size_t((k + 1) % 3)])] = {

@@ -51,6 +51,7 @@
 // flip-free, its cheapest legal one waits in a second queue. Only when the
 // first queue is empty do we take one collapse from the second (counted in
 // relaxed_collapses), then return to flip-free collapses around it.
+#include "mesh/edge_key.hpp"
 #include "pm/pm.hpp"
 
 #include <Eigen/Geometry>
@@ -419,10 +420,7 @@ void Simplifier::check_closed_manifold() const {
   // Every directed edge once, with its opposite: closed and edge-manifold.
   std::vector<std::uint64_t> directed;
   directed.reserve(3 * faces_.size());
-  auto key = [](int a, int b) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-           static_cast<std::uint32_t>(b);
-  };
+  const auto key = directed_edge_key;
   for (const Triangle& t : faces_)
     for (int k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
   std::sort(directed.begin(), directed.end());

@@ -1,6 +1,7 @@
 #include "refine/flat_reembedding.hpp"
 
 #include "map/flat_torus_overlay.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -23,9 +24,7 @@ Vec3 lift3(const Vec2& p) {
 
 CornerWeights symmetrized(const std::vector<Triangle>& faces, const CornerWeights& weights) {
   std::unordered_map<std::uint64_t, double> sum;
-  auto key = [](int i, int j) {
-    return (std::uint64_t(std::uint32_t(std::min(i, j))) << 32) | std::uint32_t(std::max(i, j));
-  };
+  const auto key = undirected_edge_key;
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int c = 0; c < 3; ++c)
       for (int m = 0; m < 2; ++m)

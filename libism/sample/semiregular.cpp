@@ -1,18 +1,11 @@
 #include "sample/semiregular.hpp"
+#include "mesh/edge_key.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 
 namespace ism {
-
-namespace {
-
-std::uint64_t edge_key(int a, int b) {
-  return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b);
-}
-
-}  // namespace
 
 SemiregularLayout semiregular_layout(const TriangleMesh& base, int levels) {
   if (levels < 0 || levels > 10)
@@ -30,7 +23,8 @@ SemiregularLayout semiregular_layout(const TriangleMesh& base, int levels) {
       const int a = base.triangles[f][k], b = base.triangles[f][(k + 1) % 3];
       if (a < 0 || a >= nv || b < 0 || b >= nv || a == b)
         throw std::invalid_argument("semiregular_mesh: bad base face " + std::to_string(f));
-      auto [it, fresh] = edge_index.emplace(edge_key(std::min(a, b), std::max(a, b)), n_edges);
+      auto [it, fresh] =
+          edge_index.emplace(directed_edge_key(std::min(a, b), std::max(a, b)), n_edges);
       if (fresh) ++n_edges;
       face_edge[3 * std::size_t(f) + k] = it->second;
     }
@@ -127,14 +121,15 @@ bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMe
   for (const Triangle& t : fine.triangles)
     for (int k = 0; k < 3; ++k) {
       if (t[k] < 0 || std::size_t(t[k]) >= nv) return false;
-      if (!third.emplace(edge_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]).second) return false;
+      if (!third.emplace(directed_edge_key(t[k], t[(k + 1) % 3]), t[(k + 2) % 3]).second)
+        return false;
     }
   auto next = [&](int m, int x) -> int {  // neighbour of m after x, counter-clockwise
-    const auto it = third.find(edge_key(m, x));
+    const auto it = third.find(directed_edge_key(m, x));
     return it == third.end() ? -1 : it->second;
   };
   auto previous = [&](int m, int x) -> int {  // neighbour of m before x
-    const auto it = third.find(edge_key(x, m));
+    const auto it = third.find(directed_edge_key(x, m));
     return it == third.end() ? -1 : it->second;
   };
   // Vertex across the odd vertex m from v: three steps around m, whose

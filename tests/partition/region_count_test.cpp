@@ -38,8 +38,8 @@ int flood_regions(const TracerMesh& mesh, const Cuts& cuts) {
       const auto f = stack.back();
       stack.pop_back();
       for (auto h : mesh.fh_range(f)) {
-        if (cuts.count(
-                undirected_key(mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx())))
+        if (cuts.count(undirected_edge_key(mesh.from_vertex_handle(h).idx(),
+                                           mesh.to_vertex_handle(h).idx())))
           continue;
         const auto g = mesh.opposite_face_handle(h);
         if (g.is_valid() && region[g.idx()] < 0) {
@@ -61,7 +61,7 @@ std::vector<std::uint64_t> random_path(const TracerMesh& mesh, std::mt19937& rng
     std::vector<TracerMesh::VertexHandle> next;
     for (auto w : mesh.vv_range(v)) next.push_back(w);
     const auto w = next[rng() % next.size()];
-    path.push_back(undirected_key(v.idx(), w.idx()));
+    path.push_back(undirected_edge_key(v.idx(), w.idx()));
     v = w;
   }
   return path;
@@ -95,14 +95,14 @@ void run_sequence(const TriangleMesh& surface, std::uint32_t seed, int* splits_s
           (mesh.point(mesh.from_vertex_handle(h)) + mesh.point(mesh.to_vertex_handle(h))) * 0.5);
       mesh.split_copy(e, m);
       ++*splits_seen;
-      if (cuts.count(undirected_key(a, b)) && rng() % 2) {
+      if (cuts.count(undirected_edge_key(a, b)) && rng() % 2) {
         for (auto& p : paths)
-          if (std::find(p.begin(), p.end(), undirected_key(a, b)) != p.end()) {
-            p.push_back(undirected_key(a, m.idx()));
-            p.push_back(undirected_key(m.idx(), b));
+          if (std::find(p.begin(), p.end(), undirected_edge_key(a, b)) != p.end()) {
+            p.push_back(undirected_edge_key(a, m.idx()));
+            p.push_back(undirected_edge_key(m.idx(), b));
           }
-        cuts.insert(undirected_key(a, m.idx()));
-        cuts.insert(undirected_key(m.idx(), b));
+        cuts.insert(undirected_edge_key(a, m.idx()));
+        cuts.insert(undirected_edge_key(m.idx(), b));
         ++*cut_splits;
       }
     }
@@ -137,11 +137,11 @@ TEST(RegionCount, CountsPartsClosedOffFromBothSidesOfAPath) {
   std::vector<int> ring;
   for (auto w : mesh.vv_range(v)) ring.push_back(w.idx());
   for (std::size_t k = 0; k < ring.size(); ++k) {
-    cuts.insert(undirected_key(ring[k], ring[(k + 1) % ring.size()]));
+    cuts.insert(undirected_edge_key(ring[k], ring[(k + 1) % ring.size()]));
     EXPECT_EQ(count(mesh, cuts), k + 1 < ring.size() ? 1 : 2);
   }
   // Every spoke cut too: the fan falls apart into its triangles.
-  for (int w : ring) cuts.insert(undirected_key(v.idx(), w));
+  for (int w : ring) cuts.insert(undirected_edge_key(v.idx(), w));
   EXPECT_EQ(count(mesh, cuts), int(ring.size()) + 1);
   EXPECT_EQ(count(mesh, cuts), flood_regions(mesh, cuts));
 }
