@@ -7,6 +7,7 @@
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
 //                     [--local-budget B] [--kinks RULE] [--threads N] [--split-batch K]
+//                     [--release-at F]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -25,7 +26,9 @@
 // (SurfaceRefineOptions::threads; 0, the default: all; 1: none). The map is
 // the same for every N. --split-batch K makes K splits in a row before
 // optimising their new rings together (SurfaceRefineOptions::split_batch;
-// default 1: after every split).
+// default 1: after every split). --release-at F holds the features on each
+// other until a fraction F of the splits (ism-map's default: 0.5); by
+// default they move from the start.
 // Without meshes: a generated sphere and a generated bumpy blob.
 #include "map/inter_surface_map.hpp"
 #include "io/features.hpp"
@@ -55,6 +58,7 @@ int main(int argc, char** argv) {
   int level_sweeps = -1, final_sweeps = -1;
   std::size_t block = 1;
   double local_budget = -1;
+  double release_at = 0;  // fraction of the splits; 0: features free from the start
   bool other_side = true;
   ism::InterSurfaceOptions map_options;
   for (int i = 1; i < argc; ++i) {
@@ -94,6 +98,8 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--decimate") == 0 && i + 1 < argc)
       decimate = std::size_t(std::atol(argv[++i]));
+    else if (std::strcmp(argv[i], "--release-at") == 0 && i + 1 < argc)
+      release_at = std::atof(argv[++i]);
     else
       files.push_back(argv[i]);
   }
@@ -102,7 +108,7 @@ int main(int argc, char** argv) {
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
                  "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B] "
-                 "[--kinks where_needed|follow_cells]\n");
+                 "[--kinks where_needed|follow_cells] [--release-at F]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -143,6 +149,9 @@ int main(int argc, char** argv) {
   std::printf("base: %zu vertices (%zu features given), %zu faces; genus %d\n",
               networks.base.n_vertices(), pairs.size(), networks.base.n_faces(), networks.genus);
   lap("partition");
+  // Features held until release_at of the splits (ism-map's default 0.5),
+  // or released from the start.
+  map_options.hold_features = release_at > 0;
   ism::InterSurfaceMap map(ism::side_from_pm(pms[0]), ism::side_from_pm(pms[1]), map_options);
   ism::SurfaceRefineOptions options;
   options.validate_each_step = each;
@@ -152,6 +161,7 @@ int main(int argc, char** argv) {
   if (local_budget >= 0) options.local_relaxation_budget = local_budget;
   options.optimise_other_side = other_side;
   if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;
+  options.release_features_at = release_at;
   if (final_sweeps >= 0) options.max_final_sweeps = final_sweeps;
   int shown = -5;  // progress on stderr, every 5 % of the splits
   options.progress = [&](double done) {
