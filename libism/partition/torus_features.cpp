@@ -39,7 +39,6 @@
 namespace ism {
 namespace {
 
-
 const char* const kNeed = "the 3x3 torus domain needs a closed genus-1 surface";
 
 struct Topology {

@@ -68,15 +68,14 @@ TexcoordTransfer transfer_texcoords(const std::vector<Triangle>& source_faces,
   std::unordered_map<std::uint64_t, std::pair<std::size_t, int>>
       directed;  // (a, b) -> face, corner
   directed.reserve(3 * source_faces.size());
-  const auto key = directed_edge_key;
   for (std::size_t f = 0; f < source_faces.size(); ++f)
     for (int k = 0; k < 3; ++k)
-      directed[key(source_faces[f][std::size_t(k)], source_faces[f][std::size_t((k + 1) % 3)])] = {
-          f, k};
+      directed[directed_edge_key(source_faces[f][std::size_t(k)],
+                                 source_faces[f][std::size_t((k + 1) % 3)])] = {f, k};
   for (std::size_t f = 0; f < source_faces.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = source_faces[f][std::size_t(k)], b = source_faces[f][std::size_t((k + 1) % 3)];
-      const auto twin = directed.find(key(b, a));
+      const auto twin = directed.find(directed_edge_key(b, a));
       if (twin == directed.end()) continue;
       const auto [g, j] = twin->second;  // g's corner j is b, j + 1 is a
       if (corners[f][std::size_t(k)] == corners[g][std::size_t((j + 1) % 3)] &&

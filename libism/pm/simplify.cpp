@@ -420,9 +420,8 @@ void Simplifier::check_closed_manifold() const {
   // Every directed edge once, with its opposite: closed and edge-manifold.
   std::vector<std::uint64_t> directed;
   directed.reserve(3 * faces_.size());
-  const auto key = directed_edge_key;
   for (const Triangle& t : faces_)
-    for (int k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
+    for (int k = 0; k < 3; ++k) directed.push_back(directed_edge_key(t[k], t[(k + 1) % 3]));
   std::sort(directed.begin(), directed.end());
   for (std::size_t i = 0; i < directed.size(); ++i) {
     const int a = static_cast<int>(directed[i] >> 32);
@@ -430,7 +429,7 @@ void Simplifier::check_closed_manifold() const {
     if (i + 1 < directed.size() && directed[i + 1] == directed[i])
       throw std::runtime_error("pm: edge " + edge_name(a, b) +
                                " is non-manifold or inconsistently oriented");
-    if (!std::binary_search(directed.begin(), directed.end(), key(b, a)))
+    if (!std::binary_search(directed.begin(), directed.end(), directed_edge_key(b, a)))
       throw std::runtime_error("pm: edge " + edge_name(a, b) +
                                " is on a boundary; a closed surface is needed");
   }

@@ -24,17 +24,16 @@ Vec3 lift3(const Vec2& p) {
 
 CornerWeights symmetrized(const std::vector<Triangle>& faces, const CornerWeights& weights) {
   std::unordered_map<std::uint64_t, double> sum;
-  const auto key = undirected_edge_key;
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int c = 0; c < 3; ++c)
       for (int m = 0; m < 2; ++m)
-        sum[key(faces[t][c], faces[t][(c + 1 + m) % 3])] += weights[t][c][m];
+        sum[undirected_edge_key(faces[t][c], faces[t][(c + 1 + m) % 3])] += weights[t][c][m];
   // Each undirected edge appears four times (two faces, both directions).
   CornerWeights out(faces.size());
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int c = 0; c < 3; ++c)
       for (int m = 0; m < 2; ++m)
-        out[t][c][m] = 0.25 * sum[key(faces[t][c], faces[t][(c + 1 + m) % 3])];
+        out[t][c][m] = 0.25 * sum[undirected_edge_key(faces[t][c], faces[t][(c + 1 + m) % 3])];
   return out;
 }
 
