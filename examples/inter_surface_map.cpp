@@ -7,7 +7,7 @@
 //                     [--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt]
 //                     [--level-sweeps N] [--final-sweeps N] [--block N] [--this-side-only]
 //                     [--local-budget B] [--kinks RULE] [--threads N] [--split-batch K]
-//                     [--release-at F]
+//                     [--release-at F] [--race S1,S2,...] [--race-faces N]
 // --trace-energy computes the energy after every step and prints the steps
 // that raise it tenfold or whose gain differs from the energy's drop.
 // --decimate V simplifies both meshes towards V vertices first (with --pairs
@@ -16,6 +16,10 @@
 // --block N refines one side N splits in a row (the paper's schedule);
 // --this-side-only optimises after a split only the split side's new ring,
 // not also the other side's vertices in it.
+// --race S1,S2,... refines a copy of the map with each of these level-sweep
+// counts until both sides have --race-faces faces (default 500, or a tenth
+// of a side's faces if fewer) and goes on with the lowest energy
+// (SurfaceRefineOptions::race_level_sweeps).
 // --local-budget B runs the local relaxation queue after each level's sweeps
 // (SurfaceRefineOptions::local_relaxation_budget; 0: never).
 // --kinks RULE says where edges bend (InterSurfaceOptions::kinks):
@@ -59,6 +63,8 @@ int main(int argc, char** argv) {
   std::size_t block = 1;
   double local_budget = -1;
   double release_at = 0;  // fraction of the splits; 0: features free from the start
+  std::vector<int> race;
+  std::size_t race_faces = 0;
   bool other_side = true;
   ism::InterSurfaceOptions map_options;
   for (int i = 1; i < argc; ++i) {
@@ -100,6 +106,15 @@ int main(int argc, char** argv) {
       decimate = std::size_t(std::atol(argv[++i]));
     else if (std::strcmp(argv[i], "--release-at") == 0 && i + 1 < argc)
       release_at = std::atof(argv[++i]);
+    else if (std::strcmp(argv[i], "--race") == 0 && i + 1 < argc) {
+      const std::string list = argv[++i];
+      for (std::size_t at = 0; at < list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        race.push_back(std::atoi(list.substr(at, comma - at).c_str()));
+        at = comma + 1;
+      }
+    } else if (std::strcmp(argv[i], "--race-faces") == 0 && i + 1 < argc)
+      race_faces = std::size_t(std::atol(argv[++i]));
     else
       files.push_back(argv[i]);
   }
@@ -108,7 +123,8 @@ int main(int argc, char** argv) {
                  "usage: inter_surface_map [A.obj B.obj [--pairs P] [--decimate V]] [--faces N] "
                  "[--validate-each-step] [--trace-energy] [--meta-mesh OUT.txt] [--level-sweeps N] "
                  "[--final-sweeps N] [--block N] [--this-side-only] [--local-budget B] "
-                 "[--kinks where_needed|follow_cells] [--release-at F]\n");
+                 "[--kinks where_needed|follow_cells] [--release-at F] [--race S1,S2,...] "
+                 "[--race-faces N]\n");
     return 2;
   }
   using Clock = std::chrono::steady_clock;
@@ -163,6 +179,8 @@ int main(int argc, char** argv) {
   if (level_sweeps >= 0) options.max_level_sweeps = level_sweeps;
   options.release_features_at = release_at;
   if (final_sweeps >= 0) options.max_final_sweeps = final_sweeps;
+  options.race_level_sweeps = race;
+  if (race_faces > 0) options.race_faces = race_faces;
   int shown = -5;  // progress on stderr, every 5 % of the splits
   options.progress = [&](double done) {
     const int percent = int(done * 100);
@@ -215,6 +233,14 @@ int main(int argc, char** argv) {
       stats.splits, stats.sweeps, stats.final_sweeps, st.optimizations, st.moves, st.fast_path,
       st.developed, st.general, st.rejected, st.split_retries, st.splits_in_place,
       stats.hard_splits);
+  if (stats.race_winner >= 0) {
+    std::printf("coarse race (%.2f s): level sweeps", stats.seconds_race);
+    for (std::size_t k = 0; k < race.size(); ++k)
+      std::printf(" %d: efficiency %.4f%s", race[k],
+                  k < stats.race_energies.size() ? 2 / stats.race_energies[k] : 0.0,
+                  int(k) == stats.race_winner ? " (kept)" : "");
+    std::printf("\n");
+  }
   std::printf("planned ahead: %zu plans held, %zu optimised anew (%.2f s planning)\n",
               st.plans_held, st.plans_stale, stats.seconds_planning);
   if (!problem) {

@@ -85,6 +85,10 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   if (o.level_sweeps < 0 || o.level_sweeps > 1000)
     throw tool::Failure(tool + ": --level-sweeps takes 0 to 1000 (got " +
                         std::to_string(o.level_sweeps) + ")");
+  for (int k : o.race_level_sweeps)
+    if (k < 0 || k > 1000)
+      throw tool::Failure(tool + ": --race-level-sweeps takes counts of 0 to 1000 (got " +
+                          std::to_string(k) + ")");
   if (!(o.release_features_at >= 0 && o.release_features_at <= 1))
     throw tool::Failure(tool +
                         ": --release-features-at takes a fraction of the refinement, 0 to 1");
@@ -237,6 +241,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   SurfaceRefineOptions refine;
   refine.threads = o.threads;
   refine.max_level_sweeps = o.level_sweeps;
+  refine.race_level_sweeps = o.race_level_sweeps;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;

@@ -67,6 +67,11 @@ struct MapSurfacesOptions {
   /// 1.5-fold (fewer when a sweep gains under 0.1 % of the energy):
   /// SurfaceRefineOptions::max_level_sweeps.
   int level_sweeps = 2;
+  /// Level-sweep counts raced at the coarse levels (each refines a copy of
+  /// the map until both sides have 500 faces, or a tenth of their faces at
+  /// full resolution if fewer; the lowest energy goes on):
+  /// SurfaceRefineOptions::race_level_sweeps. Empty: no race.
+  std::vector<int> race_level_sweeps{2, 1, 3};
   int threads = 0;  // planning threads of the refinement (0: all)
 };
 

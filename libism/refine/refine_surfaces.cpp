@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdio>
 #include <deque>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -356,9 +357,92 @@ LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefi
   return relax_from(map, options, seeds, max_moves, planner, nullptr, unused);
 }
 
+namespace {
+
+/// Whether both sides of `map` have reached their race size
+/// (SurfaceRefineOptions::race_faces, race_fraction).
+bool past_race(const InterSurfaceMap& map, const SurfaceRefineOptions& options) {
+  for (int s = 0; s < 2; ++s) {
+    // (A split adds two faces.)
+    const std::size_t full = map.n_faces(s) + 2 * (map.splits_total(s) - map.splits_applied(s));
+    const auto size = std::min(double(options.race_faces), options.race_fraction * double(full));
+    if (double(map.n_faces(s)) < size) return false;
+  }
+  return true;
+}
+
+/// Whether the race of the options is still to run on `map`.
+bool race_ahead(const InterSurfaceMap& map, const SurfaceRefineOptions& options) {
+  const bool finished =
+      map.splits_applied(0) >= map.splits_total(0) && map.splits_applied(1) >= map.splits_total(1);
+  return !options.race_level_sweeps.empty() && !finished && !past_race(map, options);
+}
+
+/// The coarse race (SurfaceRefineOptions::race_level_sweeps): `map`
+/// replaced by the copy of lowest energy. The copies refine side by side
+/// (each one the same map whatever runs beside it). False if after_level
+/// stopped a copy (`map` is then the first such copy).
+bool race(InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceRefineStats& stats) {
+  const Stopwatch watch;
+  const std::size_t n = options.race_level_sweeps.size();
+  std::vector<std::optional<InterSurfaceMap>> copies(n);
+  std::vector<SurfaceRefineStats> runs(n);
+  std::vector<char> stopped_by_caller(n, 0);
+  std::mutex caller;  // after_level of the caller, one copy at a time
+  // (On the options' threads: one, the copies one after the other.)
+  tbb::task_arena arena(options.threads > 0 ? options.threads
+                                            : tbb::this_task_arena::max_concurrency());
+  arena.execute([&] {
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
+      copies[k].emplace(map);
+      SurfaceRefineOptions o = options;
+      o.race_level_sweeps.clear();
+      o.max_level_sweeps = options.race_level_sweeps[k];
+      o.on_step = nullptr;
+      if (k > 0) o.progress = nullptr;  // (the first copy's progress stands for all)
+      o.after_level = [&, k](const InterSurfaceMap& m) {
+        if (options.after_level) {
+          const std::lock_guard lock(caller);
+          if (!options.after_level(m)) return !(stopped_by_caller[k] = 1);
+        }
+        return !past_race(m, options);
+      };
+      runs[k] = refine_surfaces(*copies[k], o);
+    });
+  });
+  std::vector<double> energies;
+  for (std::size_t k = 0; k < n; ++k) energies.push_back(copies[k]->energy());
+  const auto first_stopped = std::find(stopped_by_caller.begin(), stopped_by_caller.end(), 1);
+  const std::size_t winner =
+      first_stopped != stopped_by_caller.end()
+          ? std::size_t(first_stopped - stopped_by_caller.begin())
+          : std::size_t(std::min_element(energies.begin(), energies.end()) - energies.begin());
+  // (The winner's counts are the map's; the losers' are dropped.)
+  stats = std::move(runs[winner]);
+  map = std::move(*copies[winner]);
+  const bool go_on = !stopped_by_caller[winner];
+  stats.stopped = false;
+  stats.race_energies = std::move(energies);
+  stats.race_winner = int(winner);
+  stats.seconds_race = watch.seconds();
+  if (options.progress) {
+    const double total = double(map.splits_total(0) + map.splits_total(1));
+    if (total > 0) options.progress(double(map.splits_applied(0) + map.splits_applied(1)) / total);
+  }
+  return go_on;
+}
+
+}  // namespace
+
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   const Stopwatch watch;
   SurfaceRefineStats stats;
+  if (race_ahead(map, options) && !race(map, options, stats)) {
+    stats.stopped = true;
+    stats.energy = map.energy();
+    stats.seconds = watch.seconds();
+    return stats;
+  }
   auto add = [&](const LocalRelaxationStats& local) {
     stats.local_moves += local.moves;
     stats.discs += local.discs;
@@ -392,7 +476,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (;;) {
     if (fraction(0) >= 1 && fraction(1) >= 1) break;
     if (!released && options.release_features_at >= 0 &&
-        double(stats.splits) >= options.release_features_at * double(total_splits)) {
+        double(map.splits_applied(0) + map.splits_applied(1)) >=
+            options.release_features_at * double(total_splits)) {
       map.release_features();
       released = true;
     }
@@ -419,7 +504,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
       level = double(total) >= options.sweep_growth * double(last_sweep);
       if (options.progress && total_splits)
-        options.progress(double(stats.splits) / double(total_splits));
+        options.progress(double(map.splits_applied(0) + map.splits_applied(1)) /
+                         double(total_splits));
     }
     for (int s = 0; s < 2; ++s)
       optimise_by_colour(map, options, s, by_colour(map, s, rings[s]), planner, backoff, stats);

@@ -112,6 +112,22 @@ struct SurfaceRefineOptions {
   /// false stops the refinement at once: the map is left valid at that
   /// level, no final sweeps run, and SurfaceRefineStats::stopped is set.
   std::function<bool(const InterSurfaceMap&)> after_level;
+  /// Schedules raced at the coarse levels (empty: none). While a side has
+  /// fewer faces than its race size (`race_faces`, or `race_fraction` of
+  /// its faces at full resolution if that is fewer), a copy of the map is
+  /// refined with each of these level-sweep counts (in place of
+  /// max_level_sweeps) to the first level at which both sides have reached
+  /// their race size; the copy of lowest energy (ties: the earlier entry)
+  /// goes on, with max_level_sweeps. All copies apply the same splits, so
+  /// they are compared at the same resolution. The coarse levels decide the
+  /// basin the map refines into (docs/results-ism.md, stop 68). The copies
+  /// refine side by side on `threads` (one after the other on one); they
+  /// report no on_step, the first reports progress, and after_level is
+  /// called on each (one at a time) and stops the whole refinement when it
+  /// returns false (the map left is the first copy it stopped).
+  std::vector<int> race_level_sweeps;
+  std::size_t race_faces = 500;
+  double race_fraction = 0.1;
 };
 
 struct SurfaceRefineStats {
@@ -135,6 +151,12 @@ struct SurfaceRefineStats {
   /// commits count by chart above).
   double seconds_planning = 0;
   bool stopped = false;  // after_level returned false: not fully refined
+  /// The coarse race (SurfaceRefineOptions::race_level_sweeps): each
+  /// schedule's energy where the race ended (same order), the winner's
+  /// index (-1: no race ran) and the seconds it took.
+  std::vector<double> race_energies;
+  int race_winner = -1;
+  double seconds_race = 0;
 };
 
 /// Refines both sides to full resolution. Throws std::runtime_error (from

@@ -46,6 +46,15 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["discs_applied"] = stats.discs_applied;
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
+  if (stats.race_winner >= 0) {
+    // (Efficiency 2 / energy: the symmetric energy's terms are area-scaled.)
+    Json race = Json::object();
+    race["efficiencies"] = Json::array();
+    for (double e : stats.race_energies) race["efficiencies"].push_back(2 / e);
+    race["kept"] = stats.race_winner;
+    race["seconds"] = stats.seconds_race;
+    j["coarse_race"] = race;
+  }
 }
 
 }  // namespace

@@ -155,6 +155,61 @@ TEST(RefineSurfaces, AfterLevelSeesEachLevelAndMayStopTheRefinement) {
   EXPECT_FALSE(stopped.validate());
 }
 
+// The coarse race (race_level_sweeps): each schedule's energy is that of a
+// copy refined with it to the first level with race_faces faces on both
+// sides, the lowest goes on, and a race of the one default schedule gives
+// exactly the map of no race (a refinement stopped at a level and called
+// again refines as one call).
+TEST(RefineSurfaces, CoarseRaceKeepsTheLowestEnergyAndGoesOnAsOneCall) {
+  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
+  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  const InterSurfaceMap start(side_from_pm(pa), side_from_pm(pb));
+  SurfaceRefineOptions options;
+  options.threads = 1;
+  options.race_faces = 60;
+  options.race_fraction = 1;  // (race_faces decides)
+  const std::vector<int> schedules{1, 3, 0};
+  std::vector<double> alone;
+  for (int k : schedules) {
+    InterSurfaceMap copy = start;
+    SurfaceRefineOptions o = options;
+    o.max_level_sweeps = k;
+    o.after_level = [&](const InterSurfaceMap& m) {
+      return m.n_faces(0) < options.race_faces || m.n_faces(1) < options.race_faces;
+    };
+    ASSERT_TRUE(refine_surfaces(copy, o).stopped);
+    EXPECT_GE(copy.n_faces(0), options.race_faces);
+    EXPECT_GE(copy.n_faces(1), options.race_faces);
+    alone.push_back(copy.energy());
+  }
+  // Different schedules give different maps (else the race decides nothing).
+  EXPECT_NE(alone[0], alone[1]);
+
+  InterSurfaceMap raced = start;
+  options.race_level_sweeps = schedules;
+  const SurfaceRefineStats stats = refine_surfaces(raced, options);
+  ASSERT_EQ(stats.race_energies.size(), schedules.size());
+  for (std::size_t k = 0; k < schedules.size(); ++k) EXPECT_EQ(stats.race_energies[k], alone[k]);
+  const auto best = std::min_element(alone.begin(), alone.end()) - alone.begin();
+  EXPECT_EQ(stats.race_winner, int(best));
+  EXPECT_FALSE(stats.stopped);
+  EXPECT_EQ(stats.splits, pa.splits.size() + pb.splits.size());
+  EXPECT_EQ(raced.n_faces(0), replay(pa).n_faces());
+  EXPECT_EQ(raced.n_faces(1), replay(pb).n_faces());
+  EXPECT_FALSE(raced.validate());
+
+  InterSurfaceMap plain = start, one = start;
+  options.race_level_sweeps.clear();
+  refine_surfaces(plain, options);
+  options.race_level_sweeps = {options.max_level_sweeps};
+  const SurfaceRefineStats single = refine_surfaces(one, options);
+  EXPECT_EQ(single.race_winner, 0);
+  EXPECT_EQ(one.energy(), plain.energy());
+  EXPECT_EQ(one.measures().symmetric_efficiency, plain.measures().symmetric_efficiency);
+}
+
 // Features held, then released part of the way: the base vertices stay on
 // each other through the first part of the splits and move after it (and
 // never when release_features_at is negative).

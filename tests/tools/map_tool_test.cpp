@@ -18,11 +18,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <vector>
 
 namespace {
 
@@ -157,6 +159,16 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_NEAR(report_number(json, "symmetric_dirichlet", "map"), 4 / efficiency, 1e-9);
   EXPECT_EQ(report_number(json, "features_given", "partition"), 2);
   EXPECT_EQ(report_number(json, "release_features_at", "map"), 0.5);  // the default
+  // The coarse race (default 2,1,3): three copies, the most efficient kept
+  // (the map's final efficiency at or above the kept copy's at 500 faces).
+  {
+    const auto race = nlohmann::json::parse(json)["map"]["coarse_race"];
+    ASSERT_EQ(race["efficiencies"].size(), 3u) << json;
+    std::vector<double> e = race["efficiencies"].get<std::vector<double>>();
+    const auto best = std::max_element(e.begin(), e.end()) - e.begin();
+    EXPECT_EQ(race["kept"].get<int>(), int(best));
+    EXPECT_GT(e[std::size_t(best)], 0.5);
+  }
 
   const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
   const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
@@ -520,6 +532,7 @@ TEST(IsmMap, RefusesBadInput) {
                  "sphere.obj: cannot carry its texture coordinates: no "
                  "texture coordinates (vt)");
   expect_refusal(two + " --transfer-colors-b", "blob.obj: cannot carry its colours: no vertex");
+  expect_refusal(two + " --race-level-sweeps 2,2000", "--race-level-sweeps");
   expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
   expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
   // An output over an input is refused before any work, the input intact.

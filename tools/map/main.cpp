@@ -52,6 +52,15 @@ int main(int argc, char** argv) {
   app.add_option("--level-sweeps", o.level_sweeps,
                  "Sweeps over every vertex each time both sides have grown 1.5-fold (fewer once "
                  "a sweep gains under 0.1 %; default 2)");
+  app.add_option("--race-level-sweeps", o.race_level_sweeps,
+                 "Level-sweep counts raced at the coarse levels: a copy of the map refined "
+                 "with each until both sides have 500 faces (or a tenth of theirs), the lowest "
+                 "energy goes on "
+                 "(default 2,1,3)")
+      ->delimiter(',');
+  app.add_flag_callback(
+      "--no-race", [&] { o.race_level_sweeps.clear(); },
+      "Refine one map from the start (no coarse race)");
   app.add_option("--threads", o.threads,
                  "Threads planning the refinement's optimisations (0: all; the map is the same "
                  "for any number)")
