@@ -1,5 +1,5 @@
 #include "mesh/boundary.hpp"
-#include "mesh/edge_key.hpp"
+#include "mesh/face_adjacency.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,19 +8,17 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace ism {
 std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh) {
-  std::unordered_set<std::uint64_t> directed;
-  for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) directed.insert(directed_edge_key(t[k], t[(k + 1) % 3]));
+  const auto across = faces_across(mesh.triangles);
   // Boundary half-edges a -> b: a face holds b -> a, nothing holds a -> b.
   std::unordered_map<int, int> next;
-  for (const Triangle& t : mesh.triangles)
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
     for (int k = 0; k < 3; ++k) {
+      const Triangle& t = mesh.triangles[f];
       const int a = t[(k + 1) % 3], b = t[k];
-      if (directed.count(directed_edge_key(a, b))) continue;
+      if (across[f][std::size_t(k)].face >= 0) continue;
       if (!next.emplace(a, b).second)
         throw std::invalid_argument(
             "vertex " + std::to_string(a) +

@@ -1,13 +1,12 @@
 #include "pipeline/attribute_transfer.hpp"
 
-#include "mesh/edge_key.hpp"
+#include "mesh/face_adjacency.hpp"
 #include "mesh/union_find.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
-#include <unordered_map>
 
 namespace ism::pipeline {
 
@@ -65,22 +64,13 @@ TexcoordTransfer transfer_texcoords(const std::vector<Triangle>& source_faces,
   // The source's charts: faces joined across an edge whose ends have the
   // same coordinates in both faces.
   UnionFind charts(source_faces.size());
-  std::unordered_map<std::uint64_t, std::pair<std::size_t, int>>
-      directed;  // (a, b) -> face, corner
-  directed.reserve(3 * source_faces.size());
+  const auto across = faces_across(source_faces);
   for (std::size_t f = 0; f < source_faces.size(); ++f)
-    for (int k = 0; k < 3; ++k)
-      directed[directed_edge_key(source_faces[f][std::size_t(k)],
-                                 source_faces[f][std::size_t((k + 1) % 3)])] = {f, k};
-  for (std::size_t f = 0; f < source_faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = source_faces[f][std::size_t(k)], b = source_faces[f][std::size_t((k + 1) % 3)];
-      const auto twin = directed.find(directed_edge_key(b, a));
-      if (twin == directed.end()) continue;
-      const auto [g, j] = twin->second;  // g's corner j is b, j + 1 is a
-      if (corners[f][std::size_t(k)] == corners[g][std::size_t((j + 1) % 3)] &&
-          corners[f][std::size_t((k + 1) % 3)] == corners[g][std::size_t(j)])
-        charts.unite(f, g);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto [g, j] = across[f][k];  // g's corner j is f's corner k + 1, j + 1 is k
+      if (g >= 0 && corners[f][k] == corners[std::size_t(g)][std::size_t((j + 1) % 3)] &&
+          corners[f][(k + 1) % 3] == corners[std::size_t(g)][std::size_t(j)])
+        charts.unite(f, std::size_t(g));
     }
   TexcoordTransfer out;
   out.texcoords.resize(images.size());
