@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <deque>
+#include <exception>
 #include <mutex>
 #include <optional>
 #include <span>
@@ -388,6 +390,7 @@ bool race(InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceRefi
   std::vector<std::optional<InterSurfaceMap>> copies(n);
   std::vector<SurfaceRefineStats> runs(n);
   std::vector<char> stopped_by_caller(n, 0);
+  std::vector<std::exception_ptr> failed(n);
   std::mutex caller;  // after_level of the caller, one copy at a time
   // (On the options' threads: one, the copies one after the other.)
   tbb::task_arena arena(options.threads > 0 ? options.threads
@@ -407,11 +410,20 @@ bool race(InterSurfaceMap& map, const SurfaceRefineOptions& options, SurfaceRefi
         }
         return !past_race(m, options);
       };
-      runs[k] = refine_surfaces(*copies[k], o);
+      try {
+        runs[k] = refine_surfaces(*copies[k], o);
+      } catch (const std::exception&) {
+        failed[k] = std::current_exception();
+      }
     });
   });
+  // A copy whose split found no place is out of the race; if all are, the
+  // first one's error is thrown (`map` unchanged).
+  if (std::all_of(failed.begin(), failed.end(), [](const auto& e) { return bool(e); }))
+    std::rethrow_exception(failed[0]);
   std::vector<double> energies;
-  for (std::size_t k = 0; k < n; ++k) energies.push_back(copies[k]->energy());
+  for (std::size_t k = 0; k < n; ++k)
+    energies.push_back(failed[k] ? HUGE_VAL : copies[k]->energy());
   const auto first_stopped = std::find(stopped_by_caller.begin(), stopped_by_caller.end(), 1);
   const std::size_t winner =
       first_stopped != stopped_by_caller.end()

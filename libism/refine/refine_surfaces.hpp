@@ -124,7 +124,9 @@ struct SurfaceRefineOptions {
   /// refine side by side on `threads` (one after the other on one); they
   /// report no on_step, the first reports progress, and after_level is
   /// called on each (one at a time) and stops the whole refinement when it
-  /// returns false (the map left is the first copy it stopped).
+  /// returns false (the map left is the first copy it stopped). A copy
+  /// whose split throws is out of the race; if all do, the first one's
+  /// error is thrown with the map as it was before the race.
   std::vector<int> race_level_sweeps;
   std::size_t race_faces = 500;
   double race_fraction = 0.1;
@@ -152,7 +154,8 @@ struct SurfaceRefineStats {
   double seconds_planning = 0;
   bool stopped = false;  // after_level returned false: not fully refined
   /// The coarse race (SurfaceRefineOptions::race_level_sweeps): each
-  /// schedule's energy where the race ended (same order), the winner's
+  /// schedule's energy where the race ended (same order; HUGE_VAL for a
+  /// copy whose split failed), the winner's
   /// index (-1: no race ran) and the seconds it took.
   std::vector<double> race_energies;
   int race_winner = -1;
