@@ -668,7 +668,7 @@ PYBIND11_MODULE(ism, m) {
       "a"_a, "b"_a, py::kw_only(), "features"_a = py::none(), "hold_features"_a = false,
       "release_features_at"_a = 0.5, "output"_a = py::none(), "meta_mesh"_a = py::none(),
       "morph"_a = std::vector<double>{}, "morph_frames"_a = 0, "morph_glb"_a = false,
-      "level_sweeps"_a = 2, "race_level_sweeps"_a = std::vector<int>{2, 1, 3}, "threads"_a = 0,
+      "level_sweeps"_a = 2, "race_level_sweeps"_a = std::vector<int>{2, 3}, "threads"_a = 0,
       "report"_a = py::none(), "quiet"_a = false,
       "map_surfaces(a, b, *, features=None, ...) -> MapResult(faces, on_a, on_b, a_to_b, "
       "b_to_a, report)\n\n"

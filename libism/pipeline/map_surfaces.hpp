@@ -71,7 +71,7 @@ struct MapSurfacesOptions {
   /// the map until both sides have 500 faces, or a tenth of their faces at
   /// full resolution if fewer; the lowest energy goes on):
   /// SurfaceRefineOptions::race_level_sweeps. Empty: no race.
-  std::vector<int> race_level_sweeps{2, 1, 3};
+  std::vector<int> race_level_sweeps{2, 3};
   int threads = 0;  // planning threads of the refinement (0: all)
 };
 

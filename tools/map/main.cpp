@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
                  "Level-sweep counts raced at the coarse levels: a copy of the map refined "
                  "with each until both sides have 500 faces (or a tenth of theirs), the lowest "
                  "energy goes on "
-                 "(default 2,1,3)")
+                 "(default 2,3)")
       ->delimiter(',');
   app.add_flag_callback(
       "--no-race", [&] { o.race_level_sweeps.clear(); },
