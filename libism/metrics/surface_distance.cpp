@@ -11,10 +11,12 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ism {
@@ -91,6 +93,40 @@ class SurfaceSampler {
   std::vector<double> cumulative_area_;
 };
 
+/// Spreads the low 21 bits of x so that two zero bits follow each.
+std::uint64_t spread_bits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+/// The points' indices along a Morton (Z-order) curve of their bounding box:
+/// consecutive points of the order are near each other, so the answer to one
+/// closest-point query is a good hint for the next.
+std::vector<std::size_t> spatial_order(const std::vector<Vec3>& points) {
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double extent = (hi - lo).maxCoeff();
+  const double scale = extent > 0 && std::isfinite(extent) ? double(0x1fffff) / extent : 0.0;
+  std::vector<std::pair<std::uint64_t, std::size_t>> keyed(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double t = std::clamp((points[i][a] - lo[a]) * scale, 0.0, double(0x1fffff));
+      key |= spread_bits(std::uint64_t(std::isfinite(t) ? t : 0.0)) << a;
+    }
+    keyed[i] = {key, i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::size_t> order(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
 /// Closest-point queries against one mesh.
 class DistanceOracle {
  public:
@@ -100,40 +136,56 @@ class DistanceOracle {
       triangles_.emplace_back(to_cgal(mesh.positions[t[0]]), to_cgal(mesh.positions[t[1]]),
                               to_cgal(mesh.positions[t[2]]));
     tree_.insert(triangles_.cbegin(), triangles_.cend());
-    // Build both the tree and its k-d tree of hints now: later const queries
-    // would otherwise build them lazily, behind a lock, from the worker threads.
+    // Built now: later const queries would otherwise build it lazily, behind
+    // a lock, from the worker threads. No k-d tree of hints: the queries run
+    // in spatial order and each takes the previous answer as its hint.
     tree_.build();
-    tree_.accelerate_distance_queries();
   }
 
   /// Squared distance of each point to the surface, in parallel; the result
   /// depends only on the points (one slot per point).
   std::vector<double> squared_distances(const std::vector<Vec3>& points) const {
     std::vector<double> result(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i)
-                          result[i] = tree_.squared_distance(to_cgal(points[i]));
-                      });
+    closest_in_order(points, [&](std::size_t i, const Hit& hit) {
+      result[i] = CGAL::squared_distance(to_cgal(points[i]), hit.first);
+    });
     return result;
   }
 
   /// Nearest face and point of each point, in parallel (one slot per point).
   std::vector<NearestPoint> nearest(const std::vector<Vec3>& points) const {
     std::vector<NearestPoint> result(points.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          const auto hit = tree_.closest_point_and_primitive(to_cgal(points[i]));
-                          const int f = int(hit.second - triangles_.cbegin());
-                          const Vec3 q(hit.first.x(), hit.first.y(), hit.first.z());
-                          result[i] = {f, barycentric(f, q), (q - points[i]).squaredNorm()};
-                        }
-                      });
+    closest_in_order(points, [&](std::size_t i, const Hit& hit) {
+      const int f = int(hit.second - triangles_.cbegin());
+      const Vec3 q(hit.first.x(), hit.first.y(), hit.first.z());
+      result[i] = {f, barycentric(f, q), (q - points[i]).squaredNorm()};
+    });
     return result;
   }
 
  private:
+  using Hit = Tree::Point_and_primitive_id;
+
+  /// Calls visit(i, closest point and triangle of points[i]) for every
+  /// point, in spatial order within fixed blocks of that order (the blocks run
+  /// in parallel; within one, each query starts from the previous answer). The
+  /// blocks do not depend on the schedule, so neither do the answers.
+  template <class Visit>
+  void closest_in_order(const std::vector<Vec3>& points, Visit visit) const {
+    const std::vector<std::size_t> order = spatial_order(points);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, order.size(), 512),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          Hit hint(triangles_.front().vertex(0), triangles_.cbegin());
+          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+            const std::size_t i = order[k];
+            hint = tree_.closest_point_and_primitive(to_cgal(points[i]), hint);
+            visit(i, hint);
+          }
+        },
+        tbb::simple_partitioner());
+  }
+
   // Barycentric coordinates of q (a point of face f) in f, clamped to [0, 1]
   // and summing to 1 (q lies in the face up to rounding).
   Vec3 barycentric(int f, const Vec3& q) const {

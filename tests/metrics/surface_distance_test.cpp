@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <map>
 #include <stdexcept>
@@ -159,6 +160,60 @@ TEST(SurfaceDistance, DirectionsAreReportedSeparately) {
   EXPECT_DOUBLE_EQ(d.peak,
                    ism::bounding_box_diagonal(reference));  // the reference's, not the union's
   EXPECT_NEAR(d.psnr_db, 20.0 * std::log10(d.peak / d.rms), 1e-9);
+}
+
+/// Squared distance from p to triangle abc by brute force: the interior's
+/// projection when it falls inside, else the nearest point of the three edges.
+double squared_distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = (b - a).cross(c - a);
+  const Vec3 q = p - n * (n.dot(p - a) / n.squaredNorm());
+  const bool inside = n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 &&
+                      n.dot((a - c).cross(q - c)) >= 0;
+  if (inside) return (p - q).squaredNorm();
+  auto to_segment = [&](const Vec3& s, const Vec3& e) {
+    const double t = std::clamp((p - s).dot(e - s) / (e - s).squaredNorm(), 0.0, 1.0);
+    return (p - (s + t * (e - s))).squaredNorm();
+  };
+  return std::min({to_segment(a, b), to_segment(b, c), to_segment(c, a)});
+}
+
+// The queries run in spatial order, each from the previous answer: the
+// answers must still be the exact nearest points, for points near the
+// surface, far from it, repeated, and in no particular order.
+TEST(NearestPoints, MatchBruteForceWhateverTheOrderOfTheQueries) {
+  const TriangleMesh sphere = transformed(icosphere(2, 1.0), 1.0, Vec3(0.2, -0.1, 0.3));
+  std::vector<Vec3> points;
+  std::uint64_t state = 12345;
+  auto next = [&] {  // a small LCG: reproducible everywhere
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return double(state >> 11) * 0x1.0p-53;
+  };
+  for (int i = 0; i < 3000; ++i) {
+    const Vec3 d = Vec3(next() - 0.5, next() - 0.5, next() - 0.5).normalized();
+    const double r = i % 3 == 0 ? 0.999 + 0.002 * next() : i % 3 == 1 ? 3.0 * next() : 40.0;
+    points.push_back(Vec3(0.2, -0.1, 0.3) + r * d);
+    if (i % 100 == 0) points.push_back(points.back());  // the same point twice
+  }
+  const std::vector<ism::NearestPoint> near = ism::nearest_points(sphere, points);
+  ASSERT_EQ(near.size(), points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double best = HUGE_VAL;
+    for (const ism::Triangle& t : sphere.triangles)
+      best = std::min(best,
+                      squared_distance_to_triangle(points[i], sphere.positions[t[0]],
+                                                   sphere.positions[t[1]], sphere.positions[t[2]]));
+    ASSERT_NEAR(near[i].squared_distance, best, 1e-12 * (1 + best)) << "point " << i;
+    const ism::Triangle& t = sphere.triangles[std::size_t(near[i].face)];
+    const Vec3 q = near[i].bary[0] * sphere.positions[t[0]] +
+                   near[i].bary[1] * sphere.positions[t[1]] +
+                   near[i].bary[2] * sphere.positions[t[2]];
+    ASSERT_NEAR((q - points[i]).squaredNorm(), best, 1e-9 * (1 + best)) << "point " << i;
+  }
+  // The same queries in reverse give the same distances.
+  std::vector<Vec3> reversed(points.rbegin(), points.rend());
+  const std::vector<ism::NearestPoint> back = ism::nearest_points(sphere, reversed);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    ASSERT_EQ(back[points.size() - 1 - i].squared_distance, near[i].squared_distance);
 }
 
 TEST(SurfaceDistance, RejectsEmptyOrFlatMeshes) {
