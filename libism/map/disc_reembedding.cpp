@@ -6,6 +6,7 @@
 // re-traced as straight segments of the chart.
 #include "map/surface_map.hpp"
 #include "mesh/edge_key.hpp"
+#include "mesh/face_adjacency.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -52,8 +53,9 @@ std::unordered_map<std::uint64_t, std::pair<int, int>> half_edges(
 std::optional<DiscLayout> SurfaceMap::disc_layout(const std::vector<int>& vertices) const {
   DiscLayout disc;
   std::unordered_map<int, int> local;  // map vertex -> local vertex
+  local.reserve(8 * vertices.size());
   auto local_vertex = [&](int v, bool is_free) {
-    const auto [it, inserted] = local.emplace(v, int(disc.vertex.size()));
+    const auto [it, inserted] = local.try_emplace(v, int(disc.vertex.size()));
     if (inserted) {
       disc.vertex.push_back(v);
       disc.free.push_back(is_free);
@@ -81,7 +83,7 @@ std::optional<DiscLayout> SurfaceMap::disc_layout(const std::vector<int>& vertic
   std::vector<FaceChart> chart(n);
   for (std::size_t i = 0; i < n; ++i)
     if (!face_chart(disc.face[i], chart[i])) return std::nullopt;
-  const auto half_edge = half_edges(disc.local);
+  const std::vector<std::array<FaceAcross, 3>> across = faces_across(disc.local);
   std::vector<RigidMotion> motion(n);
   std::vector<char> placed(n, 0);
   for (std::size_t root = 0; root < n; ++root) {
@@ -91,11 +93,9 @@ std::optional<DiscLayout> SurfaceMap::disc_layout(const std::vector<int>& vertic
     while (!queue.empty()) {
       const int i = queue.front();
       queue.pop_front();
-      const Triangle& t = disc.local[i];
       for (int k = 0; k < 3; ++k) {
-        const auto twin = half_edge.find(directed_edge_key(t[(k + 1) % 3], t[k]));
-        if (twin == half_edge.end() || placed[twin->second.first]) continue;
-        const auto [j, kj] = twin->second;
+        const auto [j, kj] = across[std::size_t(i)][std::size_t(k)];
+        if (j < 0 || placed[j]) continue;
         motion[j] =
             aligning(chart[j].corner[(kj + 1) % 3], chart[j].corner[kj],
                      motion[i](chart[i].corner[k]), motion[i](chart[i].corner[(k + 1) % 3]));
