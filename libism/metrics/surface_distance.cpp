@@ -9,6 +9,7 @@
 #include <CGAL/Simple_cartesian.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -229,13 +230,21 @@ SurfaceDistance surface_distance(const TriangleMesh& reference, const TriangleMe
   const SurfaceSampler sampler_b(other, "other");
 
   const std::size_t count = std::max({reference.n_faces(), other.n_faces(), options.min_samples});
-  // One generator, drawn sequentially: samples on the reference first, then on the other.
-  std::mt19937_64 rng(options.seed);
-  const std::vector<Vec3> points_a = sampler_a.sample(count, rng);
-  const std::vector<Vec3> points_b = sampler_b.sample(count, rng);
-
-  const std::vector<double> d2_a = DistanceOracle(other).squared_distances(points_a);
-  const std::vector<double> d2_b = DistanceOracle(reference).squared_distances(points_b);
+  // One sequence of numbers: the samples on the reference first (three
+  // numbers each), then those on the other. The two directions run side by
+  // side, the second from the generator moved past the first's numbers, so
+  // the samples are those of one sequential draw.
+  std::vector<double> d2_a, d2_b;
+  tbb::parallel_invoke(
+      [&] {
+        std::mt19937_64 rng(options.seed);
+        d2_a = DistanceOracle(other).squared_distances(sampler_a.sample(count, rng));
+      },
+      [&] {
+        std::mt19937_64 rng(options.seed);
+        rng.discard(3 * static_cast<unsigned long long>(count));
+        d2_b = DistanceOracle(reference).squared_distances(sampler_b.sample(count, rng));
+      });
 
   // Sequential reductions keep the result independent of the thread schedule.
   double sum_a = 0.0, sum_b = 0.0, max_d2 = 0.0;
