@@ -1,11 +1,15 @@
 // validate() and the stretch measures: both read the overlay's pieces.
 #include "map/overlay.hpp"
 #include "map/surface_map.hpp"
+#include "mesh/edge_key.hpp"
 #include "metrics/metrics.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <cstdint>
+#include <iterator>
+#include <tuple>
+#include <vector>
 
 namespace ism {
 
@@ -13,24 +17,31 @@ std::optional<std::string> SurfaceMap::validate() const {
   const double total_domain = domain_.total_area();
   std::vector<double> covered(domain_.n_faces(), 0.0);
   double total_chart = 0.0;
-  std::map<std::pair<int, int>, std::vector<std::pair<double, int>>>
-      crossings;  // domain edge -> (s, t)
+  struct Crossing {
+    std::uint64_t edge;  // the M¹ edge, undirected_edge_key
+    double along;        // from its smaller vertex
+    int half_edge;       // 3 t + k
+    bool operator<(const Crossing& o) const {
+      return std::tie(edge, along, half_edge) < std::tie(o.edge, o.along, o.half_edge);
+    }
+  };
+  std::vector<Crossing> crossings;
+  FaceChart chart;
   for (std::size_t t = 0; t < faces_.size(); ++t) {
-    const std::string name = "face " + std::to_string(t);
-    FaceChart chart;
-    if (!face_chart(int(t), chart)) return name + ": its walks over M¹ do not close";
+    auto name = [t] { return "face " + std::to_string(t); };
+    if (!face_chart(int(t), chart)) return name() + ": its walks over M¹ do not close";
     const double area = 0.5 * orient(chart.corner[0], chart.corner[1], chart.corner[2]);
     if (!(area > 0))
-      return name + ": flipped or degenerate image (area " + std::to_string(area) + ")";
+      return name() + ": flipped or degenerate image (area " + std::to_string(area) + ")";
     total_chart += area;
     double pieces = 0.0;
     const bool ok = for_each_piece(*this, int(t), [&](const OverlayPiece& p) {
       pieces += p.area;
       covered[p.domain_face] += p.area;
     });
-    if (!ok) return name + ": its image is not in a flat region of M¹";
+    if (!ok) return name() + ": its image is not in a flat region of M¹";
     if (std::abs(pieces - area) > 1e-9 * area + 1e-15 * total_domain)
-      return name + ": pieces cover " + std::to_string(pieces / area) + " of it";
+      return name() + ": pieces cover " + std::to_string(pieces / area) + " of it";
 
     // Crossings of M¹ edges, recorded from M²'s side with the position along
     // the M¹ edge, to check their order afterwards.
@@ -44,15 +55,14 @@ std::optional<std::string> SurfaceMap::validate() const {
         const Vec2 &a = layout[e], &b = layout[(e + 1) % 3];
         // Intersection of from->to with the M¹ edge a->b: parameter s on a->b.
         const double da = orient(from, to, a), db = orient(from, to, b);
-        if (da * db > 0) return name + ": a walk crosses an M¹ edge its segment misses";
+        if (da * db > 0) return name() + ": a walk crosses an M¹ edge its segment misses";
         const double s = da / (da - db);
         const int u = domain_.mesh().triangles[face][e],
                   v = domain_.mesh().triangles[face][(e + 1) % 3];
         // Store by the undirected M¹ edge, s measured from its smaller vertex.
-        const auto edge_key = std::make_pair(std::min(u, v), std::max(u, v));
         const double along = u < v ? s : 1 - s;
         if (faces_[t][k] < faces_[t][(k + 1) % 3])
-          crossings[edge_key].push_back({along, int(t) * 3 + k});
+          crossings.push_back({undirected_edge_key(u, v), along, int(t) * 3 + k});
         layout = domain_.unfold(face, layout, e);
         face = domain_.neighbour(face, e);
       }
@@ -65,27 +75,44 @@ std::optional<std::string> SurfaceMap::validate() const {
     if (std::abs(covered[f] - domain_.face_area(int(f))) > 1e-9 * domain_.face_area(int(f)))
       return "M¹ face " + std::to_string(f) + " is covered " +
              std::to_string(covered[f] / domain_.face_area(int(f))) + " times";
-  for (auto& [edge, list] : crossings) {
-    std::sort(list.begin(), list.end());
-    for (std::size_t i = 1; i < list.size(); ++i)
-      if (list[i].first - list[i - 1].first <= 0)
-        return "two M² edges cross M¹ edge " + std::to_string(edge.first) + "-" +
-               std::to_string(edge.second) + " at the same point";
-  }
+  // Each M¹ edge's crossings in order along it (edges in key order).
+  std::sort(crossings.begin(), crossings.end());
+  for (std::size_t i = 1; i < crossings.size(); ++i)
+    if (crossings[i].edge == crossings[i - 1].edge &&
+        crossings[i].along - crossings[i - 1].along <= 0)
+      return "two M² edges cross M¹ edge " + std::to_string(crossings[i].edge >> 32) + "-" +
+             std::to_string(crossings[i].edge & 0xffffffffu) + " at the same point";
   // Both half-edges of an M² edge cross the same M¹ edges in opposite order.
-  std::map<std::pair<int, int>, const EdgeWalk*> by_halfedge;
+  // (Half-edges in key order; of a repeated one the last face's walk.)
+  std::vector<std::pair<std::uint64_t, const EdgeWalk*>> by_halfedge;
+  by_halfedge.reserve(3 * faces_.size());
   for (std::size_t t = 0; t < faces_.size(); ++t)
-    for (int k = 0; k < 3; ++k) by_halfedge[{faces_[t][k], faces_[t][(k + 1) % 3]}] = &walks_[t][k];
-  for (const auto& [he, w] : by_halfedge) {
-    auto twin = by_halfedge.find({he.second, he.first});
-    if (twin == by_halfedge.end()) return "M² is not closed";
+    for (int k = 0; k < 3; ++k)
+      by_halfedge.push_back(
+          {directed_edge_key(faces_[t][k], faces_[t][(k + 1) % 3]), &walks_[t][k]});
+  std::stable_sort(by_halfedge.begin(), by_halfedge.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  auto last_of = [&](std::uint64_t key) -> const EdgeWalk* {
+    const auto end = std::upper_bound(by_halfedge.begin(), by_halfedge.end(), key,
+                                      [](std::uint64_t k, const auto& e) { return k < e.first; });
+    return end != by_halfedge.begin() && std::prev(end)->first == key ? std::prev(end)->second
+                                                                      : nullptr;
+  };
+  for (std::size_t i = 0; i < by_halfedge.size(); ++i) {
+    if (i + 1 < by_halfedge.size() && by_halfedge[i + 1].first == by_halfedge[i].first)
+      continue;  // (the last of a repeated half-edge stands for it)
+    const std::pair<int, int> he{int(by_halfedge[i].first >> 32),
+                                 int(by_halfedge[i].first & 0xffffffffu)};
+    const EdgeWalk* w = by_halfedge[i].second;
+    const EdgeWalk* twin_walk = last_of(directed_edge_key(he.second, he.first));
+    if (!twin_walk) return "M² is not closed";
     if (he.first > he.second) continue;
-    if (w->count != twin->second->count)
+    if (w->count != twin_walk->count)
       return "edge " + std::to_string(he.first) + "-" + std::to_string(he.second) +
              ": its half-edges cross different numbers of M¹ edges";
     if (w->count > 0) {
       const EdgeWalk r = reversed(*w);
-      if (r.start_face != twin->second->start_face || r.exits != twin->second->exits)
+      if (r.start_face != twin_walk->start_face || r.exits != twin_walk->exits)
         return "edge " + std::to_string(he.first) + "-" + std::to_string(he.second) +
                ": its half-edges cross different M¹ edges";
     }
