@@ -33,12 +33,14 @@ std::size_t race_survivors(std::size_t count, std::size_t keep) {
 // refines exactly as one refinement would (last_level_sweep_at_most), so
 // the result is the full ranking's whenever its winners survive the first
 // stage. Candidates are independent, so they run in parallel, as many at a
-// time as there are cores (each holds a copy of the surface).
+// time as there are cores (each holds a copy of the surface), taken from
+// candidate `start` on (wrapping round; the result does not depend on it).
 template <class MakeSetup>
 std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup& make_setup,
                                               std::size_t coarse_vertices,
                                               const RefineOptions& refine_options,
-                                              const CoarseScore& score = {}, std::size_t keep = 1) {
+                                              const CoarseScore& score = {}, std::size_t keep = 1,
+                                              std::size_t start = 0) {
   std::vector<std::unique_ptr<MapSetup>> out;
   if (count == 1) {
     out.push_back(make_setup(0));
@@ -53,7 +55,10 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
   // it is refined and let go unless it is among the best so far, so no more
   // maps are held than threads run and kept; the result does not depend on
   // the order they finish in.
-  auto stage = [&](std::size_t n, const auto& take, const auto& stop, std::size_t kept) {
+  // Failures are kept by candidate (take(i) makes candidate i + `rotation`
+  // mod n), so the first one rethrown does not depend on the start.
+  auto stage = [&](std::size_t n, const auto& take, const auto& stop, std::size_t kept,
+                   std::size_t rotation) {
     std::vector<std::pair<double, std::unique_ptr<MapSetup>>> best;
     std::mutex best_mutex;
     std::vector<std::exception_ptr> failures(n);
@@ -68,7 +73,7 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
               options.stop_at_vertices = stop(*setup->map);
               refine(*setup->map, options);
             } catch (const std::runtime_error&) {
-              failures[i] = std::current_exception();
+              failures[(i + rotation) % n] = std::current_exception();
               continue;
             }
             const double value = score ? score(*setup->map) : -setup->map->energy();
@@ -86,7 +91,8 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
       if (failure && !first_failure) first_failure = failure;
     return best;
   };
-  auto make = [&](std::size_t i) {
+  auto make = [&](std::size_t j) {
+    const std::size_t i = (j + start) % count;
     std::unique_ptr<MapSetup> setup = make_setup(i);
     setup->candidate = i;
     return setup;
@@ -108,12 +114,12 @@ std::vector<std::unique_ptr<MapSetup>> choose(std::size_t count, const MakeSetup
               std::min(coarse_vertices, std::max(coarse_vertices / 4, first_sweep)));
           return stop > map.n_vertices() ? stop : coarse_vertices;
         },
-        survivors);
+        survivors, start);
     best = stage(
         first_stage.size(), [&](std::size_t i) { return std::move(first_stage[i].second); },
-        to_coarse, keep);
+        to_coarse, keep, 0);
   } else {
-    best = stage(count, make, to_coarse, keep);
+    best = stage(count, make, to_coarse, keep, start);
   }
   if (best.empty()) std::rethrow_exception(first_failure);
   for (auto& entry : best) out.push_back(std::move(entry.second));
@@ -126,6 +132,10 @@ NetworkCandidates::NetworkCandidates(std::vector<PathNetwork> networks,
                                      const DomainGeometry& domain, std::size_t users)
     : networks_(std::move(networks)), domain_(domain), users_(std::max<std::size_t>(users, 1)) {
   for (std::size_t i = 0; i < networks_.size(); ++i) entries_.push_back(std::make_unique<Entry>());
+}
+
+std::size_t NetworkCandidates::next_start() {
+  return (rankings_++ % users_) * networks_.size() / users_;
 }
 
 std::shared_ptr<const ConstrainedNetwork> NetworkCandidates::take(std::size_t i) {
@@ -165,7 +175,7 @@ std::vector<std::unique_ptr<MapSetup>> rank_networks(NetworkCandidates& candidat
         setup->map = std::make_unique<SurfaceMap>(candidates.domain(), setup->pm(), options);
         return setup;
       },
-      coarse_vertices, refine_options, score, count);
+      coarse_vertices, refine_options, score, count, candidates.next_start());
 }
 
 std::vector<std::unique_ptr<MapSetup>> rank_networks(std::vector<PathNetwork> networks,

@@ -11,6 +11,7 @@
 #include "pm/pm.hpp"
 #include "refine/refine.hpp"
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -57,6 +58,11 @@ class NetworkCandidates {
   /// Network i with its progressive mesh; throws the simplification's
   /// std::runtime_error (every time it is asked for) where it fails.
   std::shared_ptr<const ConstrainedNetwork> take(std::size_t i);
+  /// Where the next ranking starts: rankings k = 0, 1, ... start at network
+  /// (k mod users) × size / users, so concurrent rankings build different
+  /// meshes instead of one waiting for the other's (the order does not
+  /// change a ranking's result).
+  std::size_t next_start();
 
  private:
   struct Entry {
@@ -68,6 +74,7 @@ class NetworkCandidates {
   std::vector<PathNetwork> networks_;
   const DomainGeometry& domain_;
   std::size_t users_;
+  std::atomic<std::size_t> rankings_{0};
   std::vector<std::unique_ptr<Entry>> entries_;
 };
 

@@ -141,78 +141,93 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     outcomes.resize(last * contenders);
     const std::size_t base = first * contenders;
     VariantRace race(outcomes.size() - base, kDecideAtLevel, racing ? settings.drop_behind : -1.0);
-    tbb::task_group group;
+    // Two phases, each on every core: every variant's choice of coarse
+    // maps, then every contender's refinement side by side (a variant whose
+    // choice ends first would otherwise refine alone while the others
+    // still choose, and the last one's refinement run alone at the end).
+    std::vector<std::vector<std::unique_ptr<MapSetup>>> chosen(last - first);
+    // (A contender's seconds: its variant's choice, then its refinement.)
+    std::vector<double> choice_seconds(last - first);
+    tbb::task_group choices;
     for (std::size_t i = first; i < last; ++i)
-      group.run([&, i] {
+      choices.run([&, i] {
         const auto start = std::chrono::steady_clock::now();
-        auto seconds = [&] {
-          return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        };
-        std::vector<std::unique_ptr<MapSetup>> setups;
+        std::vector<std::unique_ptr<MapSetup>>& setups = chosen[i - first];
         try {
           MapSettings one = settings;
           one.variants = {all[i]};
           setups = choose(one.map_options(0), contenders);
           if (setups.empty()) throw std::logic_error("the map stage's choice returned no map");
         } catch (...) {
+          setups.clear();
           Outcome& out = outcomes[i * contenders];
           out.used = true;
           out.error = std::current_exception();
-          out.seconds = seconds();
+          out.seconds =
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           for (std::size_t k = 0; k < contenders; ++k) race.finish(i * contenders + k - base);
           return;
         }
         for (std::size_t k = setups.size(); k < contenders; ++k)
           race.finish(i * contenders + k - base);
-        // Each contender refined whole, side by side.
-        tbb::task_group refinements;
-        for (std::size_t k = 0; k < std::min(contenders, setups.size()); ++k)
-          refinements.run([&, i, k] {
-            const std::size_t racer = i * contenders + k - base;
-            Outcome& out = outcomes[i * contenders + k];
-            out.used = true;
-            out.result.setup = std::move(setups[k]);
-            try {
-              std::function<void(double)> report_progress;
-              if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
-              if (settings.core == MapCore::symmetric) {
-                std::function<bool(const InterSurfaceMap&)> after_level;
-                if (racing)
-                  after_level = [&](const InterSurfaceMap& map) {
-                    if (!race.scoring()) return !race.dropped(racer);
-                    const double level_score = stage.symmetric_level_score(map);
-                    out.levels.push_back({map.n_vertices(1), level_score});
-                    return race.report(racer, level_score);
-                  };
-                refine_symmetric(out.result, all[i], report_progress, stage, settings, after_level);
-                race.finish(racer);
-                if (race.dropped(racer)) {
-                  out.result.symmetric.reset();  // (its memory freed for the others)
-                } else {
-                  const InterSurfaceMap& map = *out.result.symmetric;
-                  out.measures = map.measures();
-                  out.score = stage.symmetric_score ? stage.symmetric_score(map)
-                                                    : out.measures.forward_efficiency;
-                }
-              } else {
-                RefineOptions options;
-                options.max_final_sweeps = settings.final_sweeps;
-                options.global_flat_reembedding = stage.global_flat_reembedding;
-                options.local_disc_every = stage.local_disc_every;
-                options.progress = report_progress;
-                out.result.stats = refine(*out.result.setup->map, options);
-                out.score = score(*out.result.setup->map);
-                out.measures = out.result.setup->map->measures();
-              }
-            } catch (...) {
-              out.error = std::current_exception();
-              race.finish(racer);
-            }
-            out.seconds = seconds();
-          });
-        refinements.wait();
+        choice_seconds[i - first] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       });
-    group.wait();
+    choices.wait();
+    // Each contender refined whole, side by side.
+    tbb::task_group refinements;
+    for (std::size_t i = first; i < last; ++i)
+      for (std::size_t k = 0; k < chosen[i - first].size(); ++k)
+        refinements.run([&, i, k] {
+          const auto start = std::chrono::steady_clock::now();
+          auto seconds = [&] {
+            return choice_seconds[i - first] +
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          };
+          std::vector<std::unique_ptr<MapSetup>>& setups = chosen[i - first];
+          const std::size_t racer = i * contenders + k - base;
+          Outcome& out = outcomes[i * contenders + k];
+          out.used = true;
+          out.result.setup = std::move(setups[k]);
+          try {
+            std::function<void(double)> report_progress;
+            if (i == first && k == 0) report_progress = [&](double f) { progress.update(f); };
+            if (settings.core == MapCore::symmetric) {
+              std::function<bool(const InterSurfaceMap&)> after_level;
+              if (racing)
+                after_level = [&](const InterSurfaceMap& map) {
+                  if (!race.scoring()) return !race.dropped(racer);
+                  const double level_score = stage.symmetric_level_score(map);
+                  out.levels.push_back({map.n_vertices(1), level_score});
+                  return race.report(racer, level_score);
+                };
+              refine_symmetric(out.result, all[i], report_progress, stage, settings, after_level);
+              race.finish(racer);
+              if (race.dropped(racer)) {
+                out.result.symmetric.reset();  // (its memory freed for the others)
+              } else {
+                const InterSurfaceMap& map = *out.result.symmetric;
+                out.measures = map.measures();
+                out.score = stage.symmetric_score ? stage.symmetric_score(map)
+                                                  : out.measures.forward_efficiency;
+              }
+            } else {
+              RefineOptions options;
+              options.max_final_sweeps = settings.final_sweeps;
+              options.global_flat_reembedding = stage.global_flat_reembedding;
+              options.local_disc_every = stage.local_disc_every;
+              options.progress = report_progress;
+              out.result.stats = refine(*out.result.setup->map, options);
+              out.score = score(*out.result.setup->map);
+              out.measures = out.result.setup->map->measures();
+            }
+          } catch (...) {
+            out.error = std::current_exception();
+            race.finish(racer);
+          }
+          out.seconds = seconds();
+        });
+    refinements.wait();
     // Every map the race dropped is out, also one that finished before the
     // race was decided: the map kept does not depend on timing.
     for (std::size_t r = base; r < outcomes.size(); ++r)
