@@ -7,6 +7,7 @@
 
 #include <tbb/task_group.h>
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <functional>
@@ -177,7 +178,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
     // Each contender refined whole, side by side.
     tbb::task_group refinements;
     for (std::size_t i = first; i < last; ++i)
-      for (std::size_t k = 0; k < chosen[i - first].size(); ++k)
+      for (std::size_t k = 0; k < std::min(contenders, chosen[i - first].size()); ++k)
         refinements.run([&, i, k] {
           const auto start = std::chrono::steady_clock::now();
           auto seconds = [&] {
