@@ -124,6 +124,9 @@ struct MapOperationStats {
   /// Optimisations committed from a plan (InterSurfaceMap::VertexPlan):
   /// the plan held, or the vertex was optimised anew.
   std::size_t plans_held = 0, plans_stale = 0;
+  /// Evaluations of a chart's energy by the line searches of the
+  /// optimisations committed (a plan's counted where it held).
+  std::size_t evaluations = 0;
 };
 
 class InterSurfaceMap {
@@ -241,6 +244,10 @@ class InterSurfaceMap {
   std::vector<int> disc_around(int v, int rings) const;
   /// The chart the last optimize_vertex laid its vertex out in.
   ChartKind last_chart() const { return last_chart_; }
+  /// How far optimize_vertex searches in a general chart
+  /// (minimize_in_kernel's rounds and tolerance; KernelSearch{} unless set).
+  void set_search(KernelSearch search) { search_ = search; }
+  KernelSearch search() const { return search_; }
 
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
@@ -414,6 +421,7 @@ class InterSurfaceMap {
   std::array<std::size_t, 2> next_split_{0, 0}, active_{0, 0};
   std::array<double, 2> area_{0, 0};
   mutable MapOperationStats stats_;
+  KernelSearch search_;
   /// The stretch sums of faces as the map was last committed, a face's
   /// valid while its stamp is its side's: apply() stores the faces it
   /// changed and invalidates the other side (whose changed faces it does

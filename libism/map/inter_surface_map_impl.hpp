@@ -164,8 +164,9 @@ struct InterSurfaceMap::Layout {
 /// What optimize_vertex's search found in a chart.
 struct InterSurfaceMap::Move {
   Vec2 p = Vec2::Zero();
-  double energy = HUGE_VAL;  // the chart's energy there (line searches only)
-  bool smooth = false;       // found by Newton steps (smooth_ring)
+  double energy = HUGE_VAL;     // the chart's energy there (line searches only)
+  bool smooth = false;          // found by Newton steps (smooth_ring)
+  std::size_t evaluations = 0;  // of the chart's energy by the line searches
   /// Whether it is a move that lowers the ring's energy `before`.
   bool gains(const Chart& chart, double before) const;
 };

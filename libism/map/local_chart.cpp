@@ -1727,6 +1727,7 @@ InterSurfaceMap::Move InterSurfaceMap::search_move(const Chart& chart, Layout& l
     layout.inner[0].pos = x;
     layout.inner[0].on_anchor =
         chart.centre_anchor >= 0 && x == chart.centre ? chart.centre_anchor : -1;
+    ++move.evaluations;
     return evaluate(chart, layout, nullptr);
   };
   // (give_up_above: a large chart's first round of line searches mostly
@@ -1745,7 +1746,8 @@ InterSurfaceMap::Move InterSurfaceMap::search_move(const Chart& chart, Layout& l
       return corners_energy(corners, x, gradient, hessian);
     });
   } else {
-    move.energy = minimize_in_kernel(kernel, p, energy, LineSearch::parabolic, give_up_above);
+    move.energy =
+        minimize_in_kernel(kernel, p, energy, LineSearch::parabolic, give_up_above, search_);
   }
   return move;
 }
@@ -1841,6 +1843,7 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
     stats_.plans_stale += st != nullptr;
     move = search_move(chart, layout, chart.large() ? before : HUGE_VAL);
   }
+  stats_.evaluations += move.evaluations;
   if (!move.gains(chart, before)) return 0.0;
   return finish_move(chart, layout, before, move.p, move.smooth);
 }

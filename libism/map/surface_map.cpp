@@ -631,7 +631,7 @@ std::pair<double, double> parabolic_search(const std::function<double(double)>& 
 
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy, LineSearch rule,
-                          double give_up_above) {
+                          double give_up_above, KernelSearch settings) {
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
   double scale = 0.0;
@@ -647,7 +647,7 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     if (rule == LineSearch::parabolic) {
       if (!(hi > 0 && lo < 0)) return;
       const auto [t, ft] = parabolic_search([&](double t) { return energy(p + t * d); }, lo, hi, e,
-                                            1e-6 * scale, 40);
+                                            settings.tolerance * scale, 40);
       if (ft < e) {
         p += t * d;
         e = ft;
@@ -677,7 +677,7 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
       e = ft;
     }
   };
-  for (int round = 0; round < 2; ++round) {
+  for (int round = 0; round < settings.rounds; ++round) {
     // Central-difference gradient, then the perpendicular direction. Where
     // the differences are not valid (a vertex sitting on a vertex of the
     // other side, whose edges leave along the axes: a step onto one, or one

@@ -109,8 +109,17 @@ struct MapMeasures {
 /// expensive energy wants).
 enum class LineSearch { golden, parabolic };
 
+/// How far minimize_in_kernel searches: rounds of line searches (each along
+/// a central-difference gradient and its perpendicular), and Brent's
+/// stopping tolerance relative to the ring's size (LineSearch::parabolic).
+struct KernelSearch {
+  double tolerance = 1e-6;
+  int rounds = 2;
+  bool operator==(const KernelSearch&) const = default;
+};
+
 /// Minimises `energy` over p inside the kernel of the polygon `ring` (line
-/// searches along the gradient and its perpendicular, twice; the gradient
+/// searches along the gradient and its perpendicular, `search.rounds` times; the gradient
 /// by central differences of 1e-5 of the ring's size, along turned axes and
 /// wider steps where those are not finite); p moves to the best point found.
 /// Returns the energy there. `energy` may return HUGE_VAL (not a valid place).
@@ -119,7 +128,8 @@ enum class LineSearch { golden, parabolic };
 /// p (`energy` must be a function of p alone: the next would repeat it).
 double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
                           const std::function<double(const Vec2&)>& energy,
-                          LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL);
+                          LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL,
+                          KernelSearch search = {});
 
 /// Minimises a smooth energy over p inside the kernel of the polygon `ring`
 /// by Newton steps (the Hessian shifted to be positive definite where it is

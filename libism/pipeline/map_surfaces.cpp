@@ -243,6 +243,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.max_level_sweeps = o.level_sweeps;
   refine.race_level_sweeps = o.race_level_sweeps;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
+  refine.fine_search = {1e-3, 1};
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;
   try {
@@ -331,6 +332,11 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   Json j = two_surface_map_report(map, m, stats);
   j["hold_features"] = o.hold_features;
   if (!o.hold_features) j["release_features_at"] = o.release_features_at;
+  j["search"] = {
+      {"coarse", {{"tolerance", refine.search.tolerance}, {"rounds", refine.search.rounds}}},
+      {"fine",
+       {{"tolerance", refine.fine_search.tolerance}, {"rounds", refine.fine_search.rounds}}},
+      {"fine_from", refine.fine_search_from}};
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <exception>
 #include <mutex>
@@ -485,7 +486,17 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   };
   std::vector<Split> splits;
   bool released = false;
+  // How far optimisations search: the fine way from fine_search_from of
+  // the splits on (the final sweeps too).
+  bool fine = false;
+  auto search_settings = [&] {
+    if (!fine && double(map.splits_applied(0) + map.splits_applied(1)) >=
+                     options.fine_search_from * double(total_splits))
+      fine = true;
+    map.set_search(fine ? options.fine_search : options.search);
+  };
   for (;;) {
+    search_settings();
     if (fraction(0) >= 1 && fraction(1) >= 1) break;
     if (!released && options.release_features_at >= 0 &&
         double(map.splits_applied(0) + map.splits_applied(1)) >=

@@ -48,6 +48,16 @@ struct SurfaceRefineOptions {
   /// confined by its squeezed neighbours.
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// How far the optimisations search in general charts
+  /// (InterSurfaceMap::set_search): `search` until `fine_search_from` of
+  /// both sides' splits are applied, then `fine_search` to the end (the
+  /// final sweeps too). A map's basin is decided at its coarse levels,
+  /// whose searches cost little; ism-map searches its fine levels in one
+  /// round to 1e-3 (half the energy evaluations at the same energy within
+  /// 0.01 %; docs/results-ism.md, stop 71).
+  KernelSearch search;
+  KernelSearch fine_search;
+  double fine_search_from = 0.25;
   /// During local relaxation, a vertex of side 1 that keeps gaining has the
   /// disc of `local_disc_rings` rings around it re-embedded whole after
   /// every `local_disc_every` gaining moves (0: never), where the disc lies

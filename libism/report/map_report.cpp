@@ -22,6 +22,21 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
   return j;
 }
 
+Json refine_timing(const SurfaceRefineStats& s, const InterSurfaceMap* map) {
+  Json j = Json::object();
+  Json& t = j["seconds_by_operation"];
+  for (std::size_t k = 0; k < kChartKinds; ++k)
+    t[std::string(chart_kind_name(ChartKind(k))) + (k ? "_charts" : "")] = s.seconds_by_chart[k];
+  t["splits"] = s.seconds_splits;
+  t["discs"] = s.seconds_discs;
+  t["planning"] = s.seconds_planning;
+  if (map) {
+    const MapOperationStats& o = map->stats();
+    j["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
+  }
+  return j;
+}
+
 namespace {
 
 // What the symmetric core's operations did.
@@ -30,6 +45,7 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   const double n = double(std::max<std::size_t>(1, o.optimizations));
   j["optimizations"] = o.optimizations;
   j["moves"] = o.moves;
+  j["evaluations_per_optimization"] = double(o.evaluations) / n;
   j["fast_path_fraction"] = double(o.fast_path) / n;
   j["developed_fraction"] = double(o.developed) / n;
   j["general_fraction"] = double(o.general) / n;
@@ -46,6 +62,8 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["discs_applied"] = stats.discs_applied;
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
+  j["local_moves"] = stats.local_moves;
+  j.update(refine_timing(stats, &map));
   if (stats.race_winner >= 0) {
     // (Efficiency 2 / energy: the symmetric energy's terms are area-scaled.)
     Json race = Json::object();

@@ -33,6 +33,12 @@ Json map_report(const SurfaceMap& map, const MapMeasures& m, const RefineStats& 
 /// The same for a map on the symmetric core (its side 1 the surface): faces
 /// of each side, efficiencies, and what the operations did.
 Json map_report(const InterSurfaceMap& map, const MapMeasures& m, const SurfaceRefineStats& stats);
+/// Where a refinement on the symmetric core spent its wall time
+/// ("seconds_by_operation": the optimisations committed by chart kind, the
+/// splits, the local discs, and the planning of optimisations ahead on
+/// several threads, whose commits count by chart) and, when `map` is given,
+/// how its plans fared ("plans": held, optimised anew).
+Json refine_timing(const SurfaceRefineStats& stats, const InterSurfaceMap* map);
 /// The "map" section of a map between two surfaces (side 0 A, side 1 B):
 /// faces [A, B], the symmetric efficiency and symmetric Dirichlet energy (=
 /// 4 / efficiency, both areas scaled to 1), both one-way efficiencies, the

@@ -315,19 +315,7 @@ MapStageResult run_map_stage(Run& run, Progress& progress, const MapStage& stage
       if (settings.core == MapCore::symmetric) {
         const SurfaceRefineStats& s = result.symmetric_stats;
         v["seconds_refine"] = s.seconds;
-        Json& t = v["seconds_by_operation"];
-        for (std::size_t k = 0; k < kChartKinds; ++k)
-          t[std::string(chart_kind_name(ChartKind(k))) + (k ? "_charts" : "")] =
-              s.seconds_by_chart[k];
-        t["splits"] = s.seconds_splits;
-        t["discs"] = s.seconds_discs;
-        // (Wall time of the optimisations planned ahead on several threads;
-        // their commits count by chart.)
-        t["planning"] = s.seconds_planning;
-        if (result.symmetric) {
-          const MapOperationStats& o = result.symmetric->stats();
-          v["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
-        }
+        v.update(refine_timing(s, result.symmetric.get()));
       } else {
         v["seconds_refine"] = result.stats.seconds;
       }
