@@ -368,6 +368,8 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   j["feature_residuals"] = residuals;
   if (!transfer.empty()) j["transfer"] = transfer;
   report["map"] = j;
+  // (Wall seconds vary from run to run: beside the map's figures, not in them.)
+  report["refine_timing"] = refine_timing(stats, &map);
 
   run.note(
       "A " + std::to_string(map.n_faces(0)) + " / B " + std::to_string(map.n_faces(1)) +

@@ -63,7 +63,6 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["global_steps"] = stats.global_steps;
   j["global_steps_applied"] = stats.global_steps_applied;
   j["local_moves"] = stats.local_moves;
-  j.update(refine_timing(stats, &map));
   if (stats.race_winner >= 0) {
     // (Efficiency 2 / energy: the symmetric energy's terms are area-scaled.)
     Json race = Json::object();
