@@ -174,7 +174,9 @@ class InterSurfaceMap {
   /// out to r + 1 edges away), and the split tried again, the last time
   /// accepting any valid place; after kSplitRetries
   /// such rounds it throws std::runtime_error, the map still valid at the
-  /// split before.
+  /// split before. The candidate places are evaluated in parallel (TBB, in
+  /// the calling thread's arena); the result does not depend on the number
+  /// of threads.
   int split_next(int side);
   /// The energy of the faces the last split_next changed (the split
   /// vertex's old ring and the two new faces) over that of the old ring

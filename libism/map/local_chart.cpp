@@ -7,6 +7,8 @@
 #include "map/overlay.hpp"      // clip_to_triangle
 #include "map/surface_map.hpp"  // minimize_in_kernel, kernel_centroid
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <Eigen/LU>
 #include <Eigen/SparseLU>
 
@@ -1992,13 +1994,22 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     for (int k = 1; k <= 8; ++k)
       for (std::size_t c = 0; c < n_base; ++c)
         candidates.push_back(centre + std::pow(0.5, k) * (candidates[c] - centre));
+    // Evaluated in parallel in the caller's arena (each task with its own
+    // layout; evaluate is const), ranked in the candidates' order: the
+    // same result for any number of threads.
+    std::vector<double> energies(candidates.size(), HUGE_VAL);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        Layout local = layout;
+                        for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                          if (!inside_polygon(polygon, candidates[k])) continue;
+                          local.inner[0].pos = candidates[k];
+                          energies[k] = evaluate(chart, local, nullptr);
+                        }
+                      });
     std::vector<std::pair<double, Vec2>> ranked;  // valid candidates below the limit
-    for (const Vec2& c : candidates) {
-      if (!inside_polygon(polygon, c)) continue;
-      layout.inner[0].pos = c;
-      const double e = evaluate(chart, layout, nullptr);
-      if (e < limit) ranked.push_back({e, c});
-    }
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      if (energies[k] < limit) ranked.push_back({energies[k], candidates[k]});
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     if (!ranked.empty()) {

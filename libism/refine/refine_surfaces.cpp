@@ -24,6 +24,13 @@
 
 namespace ism {
 
+const char* refine_stage_name(RefineStage stage) {
+  constexpr const char* names[kRefineStages] = {"split_rings",     "other_side", "hard_splits",
+                                                "level_sweeps",    "relaxation", "final_sweeps",
+                                                "final_relaxation"};
+  return names[std::size_t(stage)];
+}
+
 namespace {
 
 /// After a split or a kept move: validation when asked, then the hook.
@@ -100,8 +107,17 @@ class Planner {
   Planner(const InterSurfaceMap& map, const SurfaceRefineOptions& options)
       : map_(map),
         threads_(options.threads > 0 ? options.threads : tbb::this_task_arena::max_concurrency()) {
-    if (threads_ > 1 && threads_ != tbb::this_task_arena::max_concurrency())
-      arena_.emplace(threads_);
+    if (threads_ != tbb::this_task_arena::max_concurrency()) arena_.emplace(threads_);
+  }
+  /// Runs f with the planner's threads (a split's candidate places are
+  /// evaluated in parallel), isolated as plan() is.
+  template <class F>
+  void run(F&& f) {
+    auto work = [&] { tbb::this_task_arena::isolate(f); };
+    if (arena_)
+      arena_->execute(work);
+    else
+      work();
   }
   /// Whether plans are made: more than one thread.
   bool on() const { return threads_ > 1; }
@@ -157,12 +173,13 @@ class Planner {
 /// plan when given; the gain (the step reported when kept). Its time goes
 /// to `stats` by chart.
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
-                Backoff* backoff, SurfaceRefineStats& stats,
+                RefineStage stage, Backoff* backoff, SurfaceRefineStats& stats,
                 InterSurfaceMap::VertexPlan* plan = nullptr) {
   if (backoff && backoff->skip(side, v)) return 0.0;
   const Stopwatch watch;
   const double g = plan ? map.commit_plan(*plan) : map.optimize_vertex(side, v);
   const ChartKind chart = map.last_chart();
+  if (chart != ChartKind::none) ++stats.optimizations_by_stage[std::size_t(stage)];
   stats.seconds_by_chart[std::size_t(chart)] += watch.seconds();
   if (backoff) backoff->record(side, v, chart == ChartKind::large, g);
   if (g > 0) after(map, options, {SurfaceStep::optimise, side, v, g});
@@ -219,8 +236,8 @@ Coloured colour_order(const InterSurfaceMap& map, int side) {
 /// neighbours, so a commit seldom changes a later plan of its batch). The
 /// energy gained.
 double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side,
-                          const Coloured& coloured, Planner& planner, Backoff* backoff,
-                          SurfaceRefineStats& stats) {
+                          const Coloured& coloured, RefineStage stage, Planner& planner,
+                          Backoff* backoff, SurfaceRefineStats& stats) {
   double gain = 0;
   std::vector<std::pair<int, int>> batch;
   const auto& order = coloured.order;
@@ -235,7 +252,7 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
         planner.plan(batch, backoff, stats);
       }
       for (std::size_t k = k0; k < k1; ++k)
-        gain += optimise(map, options, side, order[k], backoff, stats,
+        gain += optimise(map, options, side, order[k], stage, backoff, stats,
                          planning ? &planner.plan(k - k0) : nullptr);
       k0 = k1;
     }
@@ -243,15 +260,15 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
   return gain;
 }
 
-double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Planner& planner,
-             Backoff* backoff, SurfaceRefineStats& stats) {
+double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, RefineStage stage,
+             Planner& planner, Backoff* backoff, SurfaceRefineStats& stats) {
   // Vertices of one colour (no two adjacent) next to each other: the rings
   // of a batch planned together do not share faces, so an earlier commit
   // seldom changes a later plan.
   double gain = 0;
   for (int side = 0; side < 2; ++side)
-    gain +=
-        optimise_by_colour(map, options, side, colour_order(map, side), planner, backoff, stats);
+    gain += optimise_by_colour(map, options, side, colour_order(map, side), stage, planner, backoff,
+                               stats);
   return gain;
 }
 
@@ -260,7 +277,7 @@ double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, Planner&
 double surfaces_sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options) {
   SurfaceRefineStats unused;
   Planner planner(map, options);
-  return sweep(map, options, planner, nullptr, unused);
+  return sweep(map, options, RefineStage::level_sweeps, planner, nullptr, unused);
 }
 
 namespace {
@@ -271,8 +288,8 @@ namespace {
 /// optimisations.
 LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                 const std::vector<std::pair<int, int>>& seeds,
-                                std::size_t max_moves, Planner& planner, Backoff* backoff,
-                                SurfaceRefineStats& timing) {
+                                std::size_t max_moves, RefineStage stage, Planner& planner,
+                                Backoff* backoff, SurfaceRefineStats& timing) {
   LocalRelaxationStats stats;
   std::deque<std::pair<int, int>> queue;
   std::array<std::vector<char>, 2> queued;
@@ -308,7 +325,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     queue.pop_front();
     queued[side][v] = 0;
     InterSurfaceMap::VertexPlan* plan = planning ? &planner.plan(next_plan++) : nullptr;
-    const double g = optimise(map, options, side, v, backoff, timing, plan);
+    const double g = optimise(map, options, side, v, stage, backoff, timing, plan);
     stats.gain += g;
     if (!(g > threshold)) continue;
     for (int w : map.neighbours(side, v)) enqueue(side, w);
@@ -330,7 +347,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
 }
 
 LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
-                                      Planner& planner, Backoff* backoff,
+                                      RefineStage stage, Planner& planner, Backoff* backoff,
                                       SurfaceRefineStats& timing) {
   if (!(options.local_relaxation_budget > 0)) return {};
   // (By colour, as a sweep: the queue's first entries planned together
@@ -340,7 +357,7 @@ LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineO
     for (int v : colour_order(map, side).order) all.push_back({side, v});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
-                    planner, backoff, timing);
+                    stage, planner, backoff, timing);
 }
 
 }  // namespace
@@ -349,7 +366,7 @@ LocalRelaxationStats surfaces_local_relaxation(InterSurfaceMap& map,
                                                const SurfaceRefineOptions& options) {
   SurfaceRefineStats unused;
   Planner planner(map, options);
-  return local_relaxation(map, options, planner, nullptr, unused);
+  return local_relaxation(map, options, RefineStage::relaxation, planner, nullptr, unused);
 }
 
 LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefineOptions& options,
@@ -357,7 +374,8 @@ LocalRelaxationStats surfaces_relax_from(InterSurfaceMap& map, const SurfaceRefi
                                          std::size_t max_moves) {
   SurfaceRefineStats unused;
   Planner planner(map, options);
-  return relax_from(map, options, seeds, max_moves, planner, nullptr, unused);
+  return relax_from(map, options, seeds, max_moves, RefineStage::relaxation, planner, nullptr,
+                    unused);
 }
 
 namespace {
@@ -516,7 +534,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         in_block = 0;
       }
       const Stopwatch split_watch;
-      const int vs = map.split_next(side);
+      int vs = -1;
+      planner.run([&] { vs = map.split_next(side); });
       stats.seconds_splits += split_watch.seconds();
       ++in_block;
       ++stats.splits;
@@ -531,12 +550,14 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                          double(total_splits));
     }
     for (int s = 0; s < 2; ++s)
-      optimise_by_colour(map, options, s, by_colour(map, s, rings[s]), planner, backoff, stats);
+      optimise_by_colour(map, options, s, by_colour(map, s, rings[s]), RefineStage::split_rings,
+                         planner, backoff, stats);
     if (options.optimise_other_side) {
       for (const Split& split : splits)
         for (int x : map.others_in_ring(split.side, split.vs)) others[1 - split.side].push_back(x);
       for (int s = 0; s < 2; ++s)
-        optimise_by_colour(map, options, s, by_colour(map, s, others[s]), planner, backoff, stats);
+        optimise_by_colour(map, options, s, by_colour(map, s, others[s]), RefineStage::other_side,
+                           planner, backoff, stats);
     }
     for (const Split& split : splits) {
       if (!split.hard) continue;
@@ -548,16 +569,17 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       if (options.optimise_other_side)
         for (int x : map.others_in_ring(split.side, split.vs))
           if (map.is_active(1 - split.side, x)) region.push_back({1 - split.side, x});
-      add(relax_from(map, options, region, options.hard_split_relaxation * region.size(), planner,
-                     backoff, stats));
+      add(relax_from(map, options, region, options.hard_split_relaxation * region.size(),
+                     RefineStage::hard_splits, planner, backoff, stats));
     }
     if (level) {
       const double e = map.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (sweep(map, options, planner, backoff, stats) < 1e-3 * e) break;
+        if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats) < 1e-3 * e)
+          break;
       }
-      add(local_relaxation(map, options, planner, backoff, stats));
+      add(local_relaxation(map, options, RefineStage::relaxation, planner, backoff, stats));
       last_sweep = map.n_vertices(0) + map.n_vertices(1);
       if (options.after_level && !options.after_level(map)) {
         stats.stopped = true;
@@ -577,9 +599,11 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = map.energy();
     ++stats.final_sweeps;
-    if (sweep(map, options, planner, backoff, stats) < options.final_relative_gain * e) break;
+    if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats) <
+        options.final_relative_gain * e)
+      break;
   }
-  add(local_relaxation(map, options, planner, backoff, stats));
+  add(local_relaxation(map, options, RefineStage::final_relaxation, planner, backoff, stats));
   return closed();
 }
 

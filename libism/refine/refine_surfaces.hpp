@@ -142,8 +142,30 @@ struct SurfaceRefineOptions {
   double race_fraction = 0.1;
 };
 
+/// What an optimisation of refine_surfaces ran for: the new rings of a
+/// batch of splits, the other side's vertices inside them, the relaxation
+/// after a hard split, the level sweeps, the local relaxation queue after
+/// each level, the final sweeps, the local relaxation queue after them.
+enum class RefineStage {
+  split_rings,
+  other_side,
+  hard_splits,
+  level_sweeps,
+  relaxation,
+  final_sweeps,
+  final_relaxation
+};
+inline constexpr std::size_t kRefineStages = 7;
+/// "split_rings", "other_side", ... (report keys).
+const char* refine_stage_name(RefineStage stage);
+
 struct SurfaceRefineStats {
   std::size_t splits = 0, sweeps = 0, final_sweeps = 0;
+  /// The vertex optimisations that ran (laid out a chart: those the
+  /// back-off skipped and pinned or inactive vertices not counted), by what
+  /// they ran for (indexed by RefineStage); they sum to the map's
+  /// MapOperationStats::optimizations gained in refine_surfaces.
+  std::array<std::size_t, kRefineStages> optimizations_by_stage{};
   std::size_t local_moves = 0;               // moves of the local relaxation queues
   std::size_t discs = 0, discs_applied = 0;  // their disc re-embeddings: tried, kept
   std::size_t hard_splits = 0;               // splits above hard_split_growth, relaxed

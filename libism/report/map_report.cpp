@@ -30,6 +30,9 @@ Json refine_timing(const SurfaceRefineStats& s, const InterSurfaceMap* map) {
   t["splits"] = s.seconds_splits;
   t["discs"] = s.seconds_discs;
   t["planning"] = s.seconds_planning;
+  Json& n = j["optimizations_by_stage"];
+  for (std::size_t k = 0; k < kRefineStages; ++k)
+    n[refine_stage_name(RefineStage(k))] = s.optimizations_by_stage[k];
   if (map) {
     const MapOperationStats& o = map->stats();
     j["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};

@@ -521,8 +521,9 @@ std::string meta_mesh_bytes(const InterSurfaceMap& map, const std::string& name)
 }
 
 // Sweeps and relaxation queues planned on several threads
-// (SurfaceRefineOptions::threads, InterSurfaceMap::VertexPlan) refine to
-// the very map one thread refines to, byte for byte: two surfaces both
+// (SurfaceRefineOptions::threads, InterSurfaceMap::VertexPlan), and the
+// splits' candidate places evaluated on them, refine to the very map one
+// thread refines to, byte for byte: two surfaces both
 // refining, and the remeshers' case (a resumed blob over the octahedron,
 // large charts backed off, discs re-embedded). Most plans hold; the
 // rest were optimised anew because an earlier commit changed their ring.
@@ -567,6 +568,38 @@ TEST(RefineSurfaces, PlansOnSeveralThreadsGiveTheMapOneThreadGives) {
       EXPECT_TRUE(files[k] == files[0]) << "the meta-mesh of " << k + 1 << " threads differs";
     }
   }
+}
+
+// Every optimisation refine_surfaces runs is counted once, under what it
+// ran for: the stages sum to the map's count, and each stage of a
+// refinement of two surfaces (splits' rings, the other side inside them,
+// level sweeps, their relaxation queues, final sweeps and relaxation)
+// ran, on one thread and with plans on two.
+TEST(RefineSurfaces, OptimisationsAreCountedByStage) {
+  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
+  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  for (const int threads : {1, 2}) {
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+    SurfaceRefineOptions options;
+    options.threads = threads;
+    const SurfaceRefineStats stats = refine_surfaces(map, options);
+    ASSERT_FALSE(map.validate());
+    std::size_t sum = 0;
+    for (std::size_t k = 0; k < kRefineStages; ++k) {
+      const RefineStage stage = RefineStage(k);
+      sum += stats.optimizations_by_stage[k];
+      std::printf("%d thread(s), %s: %zu\n", threads, refine_stage_name(stage),
+                  stats.optimizations_by_stage[k]);
+      if (stage != RefineStage::hard_splits) {
+        EXPECT_GT(stats.optimizations_by_stage[k], 0u) << refine_stage_name(stage);
+      }
+    }
+    EXPECT_EQ(sum, map.stats().optimizations) << threads << " thread(s)";
+  }
+  EXPECT_STREQ(refine_stage_name(RefineStage::split_rings), "split_rings");
+  EXPECT_STREQ(refine_stage_name(RefineStage::final_relaxation), "final_relaxation");
 }
 
 // How far the optimisations search (search, then fine_search once
