@@ -574,15 +574,40 @@ double max_kernel_step(const std::vector<Vec2>& ring, const Vec2& q, const Vec2&
 // three best points and takes its vertex when it lies inside the bracket
 // and moves less than half the step before the last; otherwise a golden
 // section of the larger part. Values of HUGE_VAL (invalid places) only
-// ever take golden sections. Returns the best point and its value.
+// ever take golden sections. With a finite `guess` (a predicted minimum)
+// and `slope` (f'(0)), the first step goes to the guess and the first
+// parabola has that slope at 0. Returns the best point and its value.
 std::pair<double, double> parabolic_search(const std::function<double(double)>& f, double lo,
-                                           double hi, double f0, double tolerance, int max_steps) {
+                                           double hi, double f0, double tolerance, int max_steps,
+                                           double guess = NAN, double slope = NAN) {
   const double golden = 0.5 * (3.0 - std::sqrt(5.0));  // 0.381966...
   double a = lo, b = hi;
   double x = 0, w = 0, u = 0;  // best, second best, previous second best
   double fx = f0, fw = f0, fu = f0;
   double step = 0, last = 0;  // this step and the one before
-  for (int it = 0; it < max_steps; ++it) {
+  int it = 0;
+  bool seeded = false;
+  if (std::isfinite(guess) && std::isfinite(slope) && std::abs(guess) >= tolerance &&
+      b - a > 4 * tolerance) {
+    guess = std::clamp(guess, a + 2 * tolerance, b - 2 * tolerance);  // (inside the kernel)
+    const double fg = f(guess);
+    ++it;
+    if (fg <= fx) {
+      (guess >= x ? a : b) = x;
+      w = x, fw = fx;
+      x = guess, fx = fg;
+    } else {
+      (guess < x ? a : b) = guess;
+      w = guess, fw = fg;
+    }
+    // (A point just beside 0 on the tangent: the first parabola through
+    // it, 0 and the guess has the slope at 0. It is replaced by the next
+    // point evaluated that is better.)
+    u = -1e-3 * guess, fu = f0 + slope * u;
+    step = guess, last = hi - lo;  // (parabolic steps allowed at once)
+    seeded = true;
+  }
+  for (; it < max_steps; ++it) {
     const double middle = 0.5 * (a + b);
     if (std::abs(x - middle) <= 2 * tolerance - 0.5 * (b - a)) break;
     bool parabola = false;
@@ -594,6 +619,9 @@ std::pair<double, double> parabolic_search(const std::function<double(double)>& 
       den = std::abs(den);
       if (std::abs(num) < std::abs(0.5 * den * last) && num > den * (a - x) &&
           num < den * (b - x)) {
+        // (Seeded: a parabola whose vertex is the best point within the
+        // tolerance ends the search.)
+        if (seeded && std::abs(num) < tolerance * den) break;
         last = step;
         step = num / den;
         const double t = x + step;
@@ -637,7 +665,9 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
   double scale = 0.0;
   for (const Vec2& q : ring) scale = std::max(scale, (q - p).norm());
   double e = e0;
-  auto search = [&](Vec2 d) {
+  // search(d, slope, curvature): along d, from the model's slope and
+  // curvature there when given (settings.model_seed).
+  auto search = [&](Vec2 d, double slope = NAN, double curvature = NAN) {
     const double norm = d.norm();
     if (!(norm > 0)) return;
     d /= norm;
@@ -646,8 +676,9 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     if (!(hi > lo)) return;
     if (rule == LineSearch::parabolic) {
       if (!(hi > 0 && lo < 0)) return;
+      const double guess = curvature > 0 ? -slope / curvature : NAN;
       const auto [t, ft] = parabolic_search([&](double t) { return energy(p + t * d); }, lo, hi, e,
-                                            settings.tolerance * scale, 40);
+                                            settings.tolerance * scale, 40, guess, slope);
       if (ft < e) {
         p += t * d;
         e = ft;
@@ -684,18 +715,47 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     // so small that it leaves pieces too small to keep, is refused), along
     // axes turned by 0.4 radians, and wider.
     Vec2 grad(NAN, NAN);
+    // The model (settings.model_seed): the gradient and Hessian in the
+    // frame (u, w) of the differences.
+    Vec2 u, w, g_uw;
+    Eigen::Matrix2d hessian;
+    double step = 0, eu[2], ew[2];
     for (const auto& [h, turn] : {std::pair{1e-5, 0.0}, {1e-5, 0.4}, {1e-3, 0.4}, {1e-2, 0.4}}) {
-      const Vec2 u(std::cos(turn), std::sin(turn)), w(-u.y(), u.x());
-      const double step = h * scale;
-      const double du = energy(p + step * u) - energy(p - step * u);
-      const double dw = energy(p + step * w) - energy(p - step * w);
+      u = Vec2(std::cos(turn), std::sin(turn)), w = Vec2(-u.y(), u.x());
+      step = h * scale;
+      eu[0] = energy(p + step * u), eu[1] = energy(p - step * u);
+      ew[0] = energy(p + step * w), ew[1] = energy(p - step * w);
+      const double du = eu[0] - eu[1], dw = ew[0] - ew[1];
       grad = du * u + dw * w;
+      g_uw = Vec2(du, dw) / (2 * step);
       if (grad.allFinite()) break;
     }
     if (!grad.allFinite() || grad.norm() == 0) break;
+    bool model = false;
+    if (settings.model_seed && rule == LineSearch::parabolic) {
+      const Vec2 m = (u + w) / std::sqrt(2.0);
+      const double em = energy(p + step * m);
+      const double huu = (eu[0] + eu[1] - 2 * e) / (step * step);
+      const double hww = (ew[0] + ew[1] - 2 * e) / (step * step);
+      // mᵀHm = (huu + 2 huw + hww) / 2 from the one-sided difference along m.
+      const double hmm =
+          2 * (em - e - step * g_uw.dot(Vec2(1, 1) / std::sqrt(2.0))) / (step * step);
+      hessian << huu, hmm - 0.5 * (huu + hww), hmm - 0.5 * (huu + hww), hww;
+      model = hessian.allFinite();
+    }
+    auto in_frame = [&](const Vec2& d) { return Vec2(d.dot(u), d.dot(w)); };
     const Vec2 start = p;
-    search(-grad);
-    search(Vec2(-grad.y(), grad.x()));
+    const Vec2 d0 = -grad.normalized(), d1(-grad.y(), grad.x());
+    if (model) {
+      const Vec2 a = in_frame(d0);
+      search(d0, g_uw.dot(a), a.dot(hessian * a));
+      // At the point reached, the model's slope along the perpendicular.
+      const Vec2 b = in_frame(d1.normalized()), moved = in_frame(p - start);
+      search(d1, b.dot(g_uw + hessian * moved), b.dot(hessian * b));
+    } else {
+      search(-grad);
+      search(d1);
+    }
     // (From the same point a second round would repeat the first.)
     if (!(e < give_up_above) || p == start) break;
   }

@@ -115,6 +115,11 @@ enum class LineSearch { golden, parabolic };
 struct KernelSearch {
   double tolerance = 1e-6;
   int rounds = 2;
+  /// Brent's search (LineSearch::parabolic) starts from the step a
+  /// quadratic model of the energy predicts (its gradient and Hessian from
+  /// the central differences and one evaluation more), instead of a golden
+  /// section of the whole kernel.
+  bool model_seed = false;
   bool operator==(const KernelSearch&) const = default;
 };
 

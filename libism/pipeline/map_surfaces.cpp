@@ -244,6 +244,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.race_level_sweeps = o.race_level_sweeps;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.fine_search = {1e-3, 1};
+  refine.search.model_seed = refine.fine_search.model_seed = true;
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;
   try {
@@ -336,7 +337,8 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       {"coarse", {{"tolerance", refine.search.tolerance}, {"rounds", refine.search.rounds}}},
       {"fine",
        {{"tolerance", refine.fine_search.tolerance}, {"rounds", refine.fine_search.rounds}}},
-      {"fine_from", refine.fine_search_from}};
+      {"fine_from", refine.fine_search_from},
+      {"model_seed", refine.fine_search.model_seed}};
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();
