@@ -8,7 +8,6 @@
 #include "refine/refine_surfaces.hpp"
 #include "report/report.hpp"
 
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -246,7 +245,6 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.fine_search = {1e-3, 1};
   refine.search.model_seed = refine.fine_search.model_seed = true;
-  if (const char* e = std::getenv("ISM_EXP_FINE_TOL")) refine.fine_search.tolerance = std::atof(e);  // EXPERIMENT
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;
   try {
