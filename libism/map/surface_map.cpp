@@ -743,11 +743,10 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
       hessian << huu, hmm - 0.5 * (huu + hww), hmm - 0.5 * (huu + hww), hww;
       model = hessian.allFinite();
     }
-    auto in_frame = [&](const Vec2& d) { return Vec2(d.dot(u), d.dot(w)); };
-    const Vec2 start = p;
-    const Vec2 d0 = -grad.normalized(), d1(-grad.y(), grad.x());
+    const Vec2 start = p, d1(-grad.y(), grad.x());
     if (model) {
-      const Vec2 a = in_frame(d0);
+      auto in_frame = [&](const Vec2& d) { return Vec2(d.dot(u), d.dot(w)); };
+      const Vec2 d0 = -grad.normalized(), a = in_frame(d0);
       search(d0, g_uw.dot(a), a.dot(hessian * a));
       // At the point reached, the model's slope along the perpendicular.
       const Vec2 b = in_frame(d1.normalized()), moved = in_frame(p - start);
