@@ -109,6 +109,10 @@ void InterSurfaceMap::index_and_measure() {
   index_ = build_index(meta_);
   const char* check = std::getenv("ISM_CHECK_ENERGY_CACHE");
   check_cache_ = check && *check && std::string(check) != "0";
+  const char* check_plans = std::getenv("ISM_CHECK_PLANS");
+  check_plans_ = check_plans && *check_plans && std::string(check_plans) != "0";
+  touch_all();
+  sums_all_ = {edit_all_, edit_all_};
   for (int s = 0; s < 2; ++s) {
     active_[s] = 0;
     for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
@@ -208,9 +212,59 @@ std::vector<int> InterSurfaceMap::others_in_ring(int s, int v) const {
 
 // ---------------------------------------------------------------- edits
 
+void InterSurfaceMap::touch_face(int s, int f) {
+  auto& stamps = face_edit_[s];
+  if (std::size_t(f) >= stamps.size())
+    stamps.resize(std::max(std::size_t(f) + 1, meta_.side[s].faces.size()), edit_all_);
+  stamps[f] = edit_clock_;
+}
+
+void InterSurfaceMap::touch_vertex(int s, int v) {
+  for (int f : index_[s].vertex_faces[v]) touch_face(s, f);
+}
+
+void InterSurfaceMap::touch_location(int s, const MetaLocation& loc) {
+  // A point of side s's map on side t: its face, and the face across an
+  // edge it lies on (a point on an edge belongs to both); or the faces
+  // around the vertex it sits on.
+  const int t = 1 - s;
+  if (loc.face >= 0) {
+    touch_face(t, loc.face);
+    for (int k = 0; k < 3; ++k)
+      if (!(loc.bary[(k + 2) % 3] > 0))  // on edge k (from corner k to k + 1)
+        for (int g : index_[t].edge_faces[meta_.side[t].face_edges[loc.face][k]])
+          if (g >= 0) touch_face(t, g);
+  } else if (loc.vertex >= 0) {
+    touch_vertex(t, loc.vertex);
+  }
+}
+
+void InterSurfaceMap::touch_all() {
+  edit_all_ = ++edit_clock_;
+}
+
+bool InterSurfaceMap::sums_valid(int s, int f, const CachedSums& entry) const {
+  const auto& stamps = face_edit_[s];
+  return entry.stamp >= sums_all_[s] &&
+         (std::size_t(f) >= stamps.size() || entry.stamp >= stamps[f]);
+}
+
+bool InterSurfaceMap::untouched_since(int s, const std::vector<int>& faces,
+                                      std::uint64_t since) const {
+  if (edit_all_ > since) return false;
+  const auto& stamps = face_edit_[s];
+  for (int f : faces)
+    if (std::size_t(f) >= stamps.size() || stamps[f] > since) return false;
+  return true;
+}
+
 void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* edit) {
   MetaLocation& current = meta_.side[s].location[v];
   if (edit) edit->locations.push_back({s, v, current});
+  ++edit_clock_;
+  touch_vertex(s, v);
+  touch_location(s, current);
+  touch_location(s, loc);
   if (current.face >= 0)
     remove_resident(index_, s, v, current.face);
   else if (current.vertex >= 0)
@@ -224,6 +278,16 @@ void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* 
 
 void InterSurfaceMap::set_breaks(int s, int e, std::vector<MetaCrossing> list, Edit* edit) {
   auto& current = meta_.side[s].crossings[e];
+  ++edit_clock_;
+  for (int f : index_[s].edge_faces[e])
+    if (f >= 0) touch_face(s, f);
+  for (const auto* l : {&current, &list})
+    for (const MetaCrossing& c : *l)
+      if (c.is_kink())
+        touch_face(1 - s, c.face);
+      else
+        for (int g : index_[1 - s].edge_faces[c.edge])
+          if (g >= 0) touch_face(1 - s, g);
   if (edit) edit->lists.push_back({s, e, std::move(current)});
   current = std::move(list);
 }
@@ -257,14 +321,15 @@ double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const
   double energy = 0;
   for (int f : faces) {
     CachedSums& entry = cache[f];
-    if (entry.stamp != sums_stamp_[s] || check_cache_) {
+    const bool valid = sums_valid(s, f, entry);
+    if (!valid || check_cache_) {
       StretchSums fresh;
       const bool cut = !add_face_sums(meta_, index_, s, f, terms, fresh);
-      if (entry.stamp == sums_stamp_[s] && (!cut || !(entry.sums == fresh)))
+      if (valid && (!cut || !(entry.sums == fresh)))
         throw std::logic_error("the energy cached for face " + std::to_string(f) + " of side " +
                                std::to_string(s) + " is stale");
       if (!cut) return HUGE_VAL;
-      entry = {sums_stamp_[s], fresh};
+      entry = {edit_clock_, fresh};
     }
     energy += entry.sums.energy(terms);
   }
@@ -276,7 +341,7 @@ double InterSurfaceMap::faces_energy_read(int s, const std::vector<int>& faces) 
   const auto& cache = sums_cache_[s];
   double energy = 0;
   for (int f : faces) {
-    if (std::size_t(f) < cache.size() && cache[f].stamp == sums_stamp_[s]) {
+    if (std::size_t(f) < cache.size() && sums_valid(s, f, cache[f])) {
       energy += cache[f].sums.energy(terms);
       continue;
     }
@@ -330,11 +395,13 @@ double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
   std::swap(index_, index);
   const double after = energy();
   if (after < before) {
-    ++sums_stamp_[0], ++sums_stamp_[1];  // every face may have changed
+    touch_all();  // every face may have changed
+    sums_all_ = {edit_all_, edit_all_};
     return before - after;
   }
   std::swap(meta_, candidate);  // rolled back, the old index with it
   std::swap(index_, index);
+  touch_all();
   return 0;
 }
 
@@ -387,12 +454,11 @@ std::optional<double> InterSurfaceMap::apply(int s, const std::vector<int>& face
     rollback(edit);
     return std::nullopt;
   }
-  // Committed: the faces of s it changed are exactly `faces`; the other
-  // side's faces under the ring changed too, and which they are is not
-  // tracked, so all of that side's cached sums go.
+  // Committed: the faces of s it changed are exactly `faces`, their sums
+  // just cut; those of the other side's faces it touched are stale
+  // (face_edit_).
   auto& cache = fit(sums_cache_[s], meta_.side[s].faces.size());
-  for (std::size_t i = 0; i < faces.size(); ++i) cache[faces[i]] = {sums_stamp_[s], sums[i]};
-  ++sums_stamp_[1 - s];
+  for (std::size_t i = 0; i < faces.size(); ++i) cache[faces[i]] = {edit_clock_, sums[i]};
   return energy_before - after;
 }
 

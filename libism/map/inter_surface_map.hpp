@@ -124,6 +124,7 @@ struct MapOperationStats {
   /// Optimisations committed from a plan (InterSurfaceMap::VertexPlan):
   /// the plan held, or the vertex was optimised anew.
   std::size_t plans_held = 0, plans_stale = 0;
+  std::size_t plans_untouched = 0;  // held plans known unchanged by the edit stamps (not rebuilt)
   /// Evaluations of a chart's energy by the line searches of the
   /// optimisations committed (a plan's counted where it held).
   std::size_t evaluations = 0;
@@ -195,14 +196,17 @@ class InterSurfaceMap {
   /// An optimisation of one vertex worked out ahead (plan_vertex) and
   /// applied later (commit_plan). Planning only reads the map: plans of
   /// many vertices may be made concurrently, one per thread at a time,
-  /// while nothing edits the map. commit_plan builds the vertex's chart
-  /// again on the map as it is then and uses the planned place only if that
-  /// chart is exactly the planned one (and, for a large chart, whose search
-  /// depends on it, the ring's energy too); otherwise it optimises the
-  /// vertex anew. Plans committed in some order therefore
-  /// give exactly what optimize_vertex in that order gives, whatever the
-  /// number of threads that made them. A plan is owned by its caller and
-  /// reusable (its storage kept).
+  /// while nothing edits the map. commit_plan uses the planned place only
+  /// if the vertex's chart on the map as it is then is exactly the planned
+  /// one (and, for a large chart, whose search depends on it, the ring's
+  /// energy too); otherwise it optimises the vertex anew. Where no edit
+  /// has touched the faces of the vertex's ring since the plan was made
+  /// (the map's per-face edit stamps), the planned chart is known to be
+  /// that chart and is not built again; else it is built and compared.
+  /// Plans committed in some order therefore give exactly what
+  /// optimize_vertex in that order gives, whatever the number of threads
+  /// that made them. A plan is owned by its caller and reusable (its
+  /// storage kept).
   struct VertexPlan {
     struct State;
     VertexPlan();
@@ -424,20 +428,46 @@ class InterSurfaceMap {
   std::array<double, 2> area_{0, 0};
   mutable MapOperationStats stats_;
   KernelSearch search_;
-  /// The stretch sums of faces as the map was last committed, a face's
-  /// valid while its stamp is its side's: apply() stores the faces it
-  /// changed and invalidates the other side (whose changed faces it does
-  /// not know); replace_overlay invalidates both; a split's connectivity
-  /// change reaches only the faces its apply() stores, or is undone. With
-  /// the environment variable ISM_CHECK_ENERGY_CACHE=1 at construction,
-  /// every cached face is cut again when used and std::logic_error thrown
-  /// if it differs (tests/map set it).
+  /// The stretch sums of faces as the map was last committed, each with
+  /// the edit clock when it was cut: valid while no edit has touched its
+  /// face since (face_edit_) and no operation invalidated its whole side
+  /// since (sums_all_). apply() stores the faces it changed; a split's
+  /// connectivity change reaches only the faces of its side its apply()
+  /// stores, or is undone, and invalidates the other side (whose faces
+  /// under the new ring take the new metric); replace_overlay invalidates
+  /// both. With the environment variable ISM_CHECK_ENERGY_CACHE=1 at
+  /// construction, every cached face is cut again when used and
+  /// std::logic_error thrown if it differs (tests/map and tests/refine set
+  /// it).
   struct CachedSums {
     std::uint64_t stamp = 0;
     StretchSums sums;
   };
   mutable std::array<std::vector<CachedSums>, 2> sums_cache_;
-  std::array<std::uint64_t, 2> sums_stamp_{1, 1};
+  /// When each face's content last changed, on a clock that every edit
+  /// advances: a face of a side is touched when its edges' break lists,
+  /// the other side's vertices inside it or on its corners, or its corners'
+  /// locations change, and when an edit of the other side changes a break
+  /// list or a location that lies in it (set_location, set_breaks: old and
+  /// new places both). Operations that change connectivity or many faces
+  /// (a split with its undoing, replace_overlay) touch every face
+  /// (`edit_all_`). A chart of v of a side reads only the faces of v's
+  /// ring and what lies in them, so a plan whose ring faces were not
+  /// touched since it was made still holds (commit_plan). With
+  /// ISM_CHECK_PLANS=1 at construction, commit_plan also builds every
+  /// chart it takes as unchanged and throws std::logic_error if it differs
+  /// (tests/refine set it).
+  std::array<std::vector<std::uint64_t>, 2> face_edit_;
+  std::uint64_t edit_clock_ = 1, edit_all_ = 1;
+  bool check_plans_ = false;
+  void touch_face(int side, int f);
+  void touch_vertex(int side, int v);                      // the faces around v
+  void touch_location(int side, const MetaLocation& loc);  // on the other side
+  void touch_all();
+  /// Whether no face of `faces` of `side` changed after clock value `since`.
+  bool untouched_since(int side, const std::vector<int>& faces, std::uint64_t since) const;
+  std::array<std::uint64_t, 2> sums_all_{1, 1};
+  bool sums_valid(int side, int f, const CachedSums& entry) const;
   bool check_cache_ = false;
   std::string last_refusal_;  // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;

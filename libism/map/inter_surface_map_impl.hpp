@@ -176,7 +176,8 @@ struct InterSurfaceMap::VertexPlan::State {
   bool planned = false;  // plan_vertex ran (else commit_plan optimises anew)
   bool charted = false;  // the chart was built
   Chart chart;
-  double before = 0;  // the ring's energy (large charts only)
+  double before = 0;        // the ring's energy (large charts only)
+  std::uint64_t clock = 0;  // the map's edit clock when planned
   Move move;
 };
 

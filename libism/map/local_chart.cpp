@@ -1798,6 +1798,7 @@ void InterSurfaceMap::plan_vertex(int s, int v, VertexPlan& plan) const {
   VertexPlan::State& st = *plan.state;
   st.planned = true;
   st.charted = false;
+  st.clock = edit_clock_;
   if (pinned_[s][v] || !is_active(s, v)) return;
   if (!build_chart(s, v, st.chart)) return;
   st.charted = true;
@@ -1818,7 +1819,23 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   // from vertex to vertex (nothing here optimises a vertex re-entrantly).
   thread_local Chart chart;
   thread_local Layout layout;
-  if (!build_chart(s, v, chart)) return 0.0;
+  VertexPlan::State* st = plan.state.get();
+  // A plan whose ring faces no edit has touched since holds its chart as
+  // it would be built now (face_edit_).
+  const bool unchanged =
+      st && st->planned && st->charted && untouched_since(s, st->chart.faces, st->clock);
+  if (unchanged) {
+    if (check_plans_) {
+      if (!build_chart(s, v, chart) || !(chart == st->chart))
+        throw std::logic_error("commit_plan: vertex " + std::to_string(v) + " of side " +
+                               std::to_string(s) +
+                               ": its chart changed while no edit touched its ring");
+    }
+    std::swap(chart, st->chart);
+    ++stats_.plans_untouched;
+  } else if (!build_chart(s, v, chart)) {
+    return 0.0;
+  }
   last_chart_ = chart.large()                    ? ChartKind::large
                 : chart.kind == Chart::fast      ? ChartKind::fast
                 : chart.kind == Chart::developed ? ChartKind::developed
@@ -1830,8 +1847,7 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   ring_layout(chart, layout);
   const double before = faces_energy(s, chart.faces);
   if (!(before < HUGE_VAL)) return 0.0;
-  VertexPlan::State* st = plan.state.get();
-  const bool held = st && st->planned && st->charted && st->chart == chart &&
+  const bool held = st && st->planned && st->charted && (unchanged || st->chart == chart) &&
                     (!chart.large() || st->before == before);
   if (st) {
     st->planned = false;                         // (used once)
@@ -2131,7 +2147,13 @@ int InterSurfaceMap::split_next(int s) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
     // are refused but in the last attempt: such a piece is nearly
     // degenerate, and later moves often cannot undo it.
+    // (A split changes connectivity and metrics: every plan is stale, and
+    // the other side's cached energies.)
+    touch_all();
+    sums_all_[1 - s] = edit_all_;
     const int vs = try_split(s, true, attempt < kSplitRetries ? kSplitEnergyCap : HUGE_VAL);
+    touch_all();
+    sums_all_[1 - s] = edit_all_;
     if (vs >= 0) return vs;
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
     if (attempt == kSplitRetries)

@@ -35,7 +35,9 @@ Json refine_timing(const SurfaceRefineStats& s, const InterSurfaceMap* map) {
     n[refine_stage_name(RefineStage(k))] = s.optimizations_by_stage[k];
   if (map) {
     const MapOperationStats& o = map->stats();
-    j["plans"] = {{"held", o.plans_held}, {"optimised_anew", o.plans_stale}};
+    j["plans"] = {{"held", o.plans_held},
+                  {"held_untouched", o.plans_untouched},
+                  {"optimised_anew", o.plans_stale}};
   }
   return j;
 }

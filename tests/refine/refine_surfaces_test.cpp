@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -30,6 +31,13 @@
 
 namespace ism {
 namespace {
+
+/// Every InterSurfaceMap of this test binary rebuilds each chart that its
+/// edit stamps declare unchanged since it was planned and throws if it
+/// differs, and cuts each face it takes from its energy cache again.
+const bool kCheckPlans = [] {
+  return setenv("ISM_CHECK_PLANS", "1", 1) == 0 && setenv("ISM_CHECK_ENERGY_CACHE", "1", 1) == 0;
+}();
 
 TEST(RefineSurfaces, EveryStepIsReportedAndEachGainIsTheDropOfTheEnergy) {
   const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
@@ -555,12 +563,16 @@ TEST(RefineSurfaces, PlansOnSeveralThreadsGiveTheMapOneThreadGives) {
         EXPECT_EQ(stats.seconds_planning, 0.0);
       } else {
         EXPECT_GT(o.plans_held, 2 * o.plans_stale) << threads << " threads";
+        // Most held plans are known unchanged from the edit stamps alone.
+        EXPECT_GT(o.plans_untouched, o.plans_held / 2) << threads << " threads";
+        EXPECT_LE(o.plans_untouched, o.plans_held);
       }
       files.push_back(meta_mesh_bytes(map, "ism_plans_" + std::to_string(threads) + ".meta"));
       energies.push_back(map.energy());
-      std::printf("%s, %d thread(s): energy %.17g; plans held %zu, optimised anew %zu\n",
-                  remesher ? "blob over the octahedron" : "sphere / blob", threads, map.energy(),
-                  o.plans_held, o.plans_stale);
+      std::printf(
+          "%s, %d thread(s): energy %.17g; plans held %zu (%zu untouched), optimised anew %zu\n",
+          remesher ? "blob over the octahedron" : "sphere / blob", threads, map.energy(),
+          o.plans_held, o.plans_untouched, o.plans_stale);
     }
     EXPECT_FALSE(files[0].empty());
     for (std::size_t k = 1; k < files.size(); ++k) {
