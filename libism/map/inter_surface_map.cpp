@@ -98,6 +98,16 @@ void InterSurfaceMap::release_features() {
     for (int v : input_[s].base_vertices) pinned_[s][v] = 0;
 }
 
+namespace {
+
+/// Whether environment variable `name` is set to something other than "0".
+bool env_flag(const char* name) {
+  const char* value = std::getenv(name);
+  return value && *value && std::string(value) != "0";
+}
+
+}  // namespace
+
 void InterSurfaceMap::index_and_measure() {
   const auto& d = options_.forward_density;
   if (!d.empty() && d.size() != meta_.side[1].n_vertices())
@@ -107,12 +117,9 @@ void InterSurfaceMap::index_and_measure() {
   if (!(options_.anisotropy_weight >= 0) || !(options_.anisotropy_threshold >= 1))
     throw std::invalid_argument("the anisotropy penalty needs a weight >= 0 and a threshold >= 1");
   index_ = build_index(meta_);
-  const char* check = std::getenv("ISM_CHECK_ENERGY_CACHE");
-  check_cache_ = check && *check && std::string(check) != "0";
-  const char* check_plans = std::getenv("ISM_CHECK_PLANS");
-  check_plans_ = check_plans && *check_plans && std::string(check_plans) != "0";
-  touch_all();
-  sums_all_ = {edit_all_, edit_all_};
+  check_cache_ = env_flag("ISM_CHECK_ENERGY_CACHE");
+  check_plans_ = env_flag("ISM_CHECK_PLANS");
+  touch_all({0, 1});
   for (int s = 0; s < 2; ++s) {
     active_[s] = 0;
     for (std::size_t v = 0; v < meta_.side[s].n_vertices(); ++v) active_[s] += is_active(s, int(v));
@@ -239,8 +246,9 @@ void InterSurfaceMap::touch_location(int s, const MetaLocation& loc) {
   }
 }
 
-void InterSurfaceMap::touch_all() {
+void InterSurfaceMap::touch_all(std::initializer_list<int> stale_sums) {
   edit_all_ = ++edit_clock_;
+  for (int s : stale_sums) sums_all_[s] = edit_all_;
 }
 
 bool InterSurfaceMap::sums_valid(int s, int f, const CachedSums& entry) const {
@@ -395,13 +403,11 @@ double InterSurfaceMap::replace_overlay(MetaMesh candidate) {
   std::swap(index_, index);
   const double after = energy();
   if (after < before) {
-    touch_all();  // every face may have changed
-    sums_all_ = {edit_all_, edit_all_};
+    touch_all({0, 1});  // every face may have changed
     return before - after;
   }
   std::swap(meta_, candidate);  // rolled back, the old index with it
   std::swap(index_, index);
-  touch_all();
   return 0;
 }
 

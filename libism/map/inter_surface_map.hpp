@@ -29,6 +29,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -463,7 +464,9 @@ class InterSurfaceMap {
   void touch_face(int side, int f);
   void touch_vertex(int side, int v);                      // the faces around v
   void touch_location(int side, const MetaLocation& loc);  // on the other side
-  void touch_all();
+  /// Touches every face of both sides; the cached energies of the sides
+  /// listed go stale too.
+  void touch_all(std::initializer_list<int> stale_sums);
   /// Whether no face of `faces` of `side` changed after clock value `since`.
   bool untouched_since(int side, const std::vector<int>& faces, std::uint64_t since) const;
   std::array<std::uint64_t, 2> sums_all_{1, 1};

@@ -2147,13 +2147,10 @@ int InterSurfaceMap::split_next(int s) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
     // are refused but in the last attempt: such a piece is nearly
     // degenerate, and later moves often cannot undo it.
-    // (A split changes connectivity and metrics: every plan is stale, and
-    // the other side's cached energies.)
-    touch_all();
-    sums_all_[1 - s] = edit_all_;
     const int vs = try_split(s, true, attempt < kSplitRetries ? kSplitEnergyCap : HUGE_VAL);
-    touch_all();
-    sums_all_[1 - s] = edit_all_;
+    // (Placed or undone, a split changes connectivity and metrics: every
+    // plan is stale, and the other side's cached energies.)
+    touch_all({1 - s});
     if (vs >= 0) return vs;
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
     if (attempt == kSplitRetries)
