@@ -26,11 +26,6 @@ Vec2 apex_left_of(const Vec2& p, const Vec2& q, double rp, double rq) {
 
 }  // namespace
 
-Eigen::Vector3d barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
-  const double total = orient(a, b, c);
-  return Eigen::Vector3d(orient(p, b, c), orient(a, p, c), orient(a, b, p)) / total;
-}
-
 DomainGeometry::DomainGeometry(TriangleMesh connectivity, std::vector<FaceLengths> lengths)
     : mesh_(std::move(connectivity)), lengths_(std::move(lengths)) {
   const std::size_t nf = mesh_.n_faces();

@@ -93,8 +93,6 @@ std::vector<FaceLengths> torus_3x3_lengths(const TriangleMesh& torus);
 /// Unit equilateral lengths for any domain.
 std::vector<FaceLengths> equilateral_lengths(const TriangleMesh& domain);
 
-/// Barycentric coordinates of p in the triangle (a, b, c).
-Eigen::Vector3d barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c);
 /// The point with barycentric coordinates b in the triangle with these
 /// corners (the inverse of barycentric(); b is used as given, not normalised).
 inline Vec2 from_barycentric(const Eigen::Vector3d& b, const std::array<Vec2, 3>& corner) {
@@ -103,6 +101,11 @@ inline Vec2 from_barycentric(const Eigen::Vector3d& b, const std::array<Vec2, 3>
 /// Twice the signed area of (a, b, c): positive when counter-clockwise.
 inline double orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+}
+/// Barycentric coordinates of p in the triangle (a, b, c).
+inline Eigen::Vector3d barycentric(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double total = orient(a, b, c);
+  return Eigen::Vector3d(orient(p, b, c), orient(a, p, c), orient(a, b, p)) / total;
 }
 namespace detail {
 /// Twice the shoelace sum of the n corners corner(0), ..., corner(n - 1).

@@ -5,6 +5,8 @@
 #include "map/inter_surface_map_impl.hpp"
 #include "metrics/metrics.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -319,6 +321,23 @@ std::vector<T>& fit(std::vector<T>& v, std::size_t n) {
   return v;
 }
 
+/// fn(0), ..., fn(n - 1), on the caller's arena's threads when there are
+/// several (each call independent; the caller combines the results in
+/// index order, so the outcome does not depend on the threads).
+template <class Fn>
+void for_each_index(std::size_t n, Fn&& fn) {
+  if (n < 2) {
+    for (std::size_t i = 0; i < n; ++i) fn(i);
+    return;
+  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, n, 1),
+      [&](const tbb::blocked_range<std::size_t>& range) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) fn(i);
+      },
+      tbb::simple_partitioner());
+}
+
 }  // namespace
 
 double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const {
@@ -326,18 +345,26 @@ double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const
   // members' comment); a face without them is cut now and cached.
   const EnergyTerms terms = energy_terms();
   auto& cache = fit(sums_cache_[s], meta_.side[s].faces.size());
+  std::vector<std::size_t> to_cut;
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (check_cache_ || !sums_valid(s, faces[i], cache[faces[i]])) to_cut.push_back(i);
+  std::vector<StretchSums> fresh(to_cut.size());
+  std::vector<char> cut(to_cut.size(), 0);
+  for_each_index(to_cut.size(), [&](std::size_t k) {
+    cut[k] = !add_face_sums(meta_, index_, s, faces[to_cut[k]], terms, fresh[k]);
+  });
   double energy = 0;
-  for (int f : faces) {
+  for (std::size_t i = 0, k = 0; i < faces.size(); ++i) {
+    const int f = faces[i];
     CachedSums& entry = cache[f];
-    const bool valid = sums_valid(s, f, entry);
-    if (!valid || check_cache_) {
-      StretchSums fresh;
-      const bool cut = !add_face_sums(meta_, index_, s, f, terms, fresh);
-      if (valid && (!cut || !(entry.sums == fresh)))
+    if (k < to_cut.size() && to_cut[k] == i) {
+      const bool valid = sums_valid(s, f, entry);
+      if (valid && (!cut[k] || !(entry.sums == fresh[k])))
         throw std::logic_error("the energy cached for face " + std::to_string(f) + " of side " +
                                std::to_string(s) + " is stale");
-      if (!cut) return HUGE_VAL;
-      entry = {edit_clock_, fresh};
+      if (!cut[k]) return HUGE_VAL;
+      entry = {edit_clock_, fresh[k]};
+      ++k;
     }
     energy += entry.sums.energy(terms);
   }
@@ -374,6 +401,13 @@ double InterSurfaceMap::energy() const {
   std::vector<StretchSums> sums;
   if (check_faces(1, all, &sums)) return HUGE_VAL;
   return sums_energy(sums);
+}
+
+double InterSurfaceMap::cached_energy() const {
+  // (Side 1's faces hold the pieces energy() sums, in the same order.)
+  std::vector<int> all(meta_.side[1].faces.size());
+  for (std::size_t f = 0; f < all.size(); ++f) all[f] = int(f);
+  return faces_energy(1, all);
 }
 
 double InterSurfaceMap::sums_energy(const std::vector<StretchSums>& sums) const {
@@ -433,14 +467,15 @@ std::optional<std::string> InterSurfaceMap::check_faces(int s, const std::vector
   // whole face of the octahedron with all its content: O(n) per move).
   const EnergyTerms terms = energy_terms();
   if (sums) sums->assign(faces.size(), {});
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    if (sums) {
-      if (auto problem = add_face_sums(meta_, index_, s, faces[i], terms, (*sums)[i]))
-        return problem;
-    } else if (FaceCut cut = cut_face(meta_, index_, s, faces[i]); cut.error) {
-      return cut.error;
-    }
-  }
+  std::vector<std::optional<std::string>> problems(faces.size());
+  for_each_index(faces.size(), [&](std::size_t i) {
+    if (sums)
+      problems[i] = add_face_sums(meta_, index_, s, faces[i], terms, (*sums)[i]);
+    else
+      problems[i] = cut_face(meta_, index_, s, faces[i]).error;
+  });
+  for (auto& problem : problems)
+    if (problem) return problem;
   return std::nullopt;
 }
 

@@ -264,10 +264,15 @@ class InterSurfaceMap {
 
   /// The energy over every piece (symmetric stretch, paper §5.2, with the
   /// inverse term weighted by options().inverse_weight); efficiency 2 /
-  /// energy when that weight is 1.
+  /// energy when that weight is 1. Every face is cut afresh.
   double energy() const;
+  /// The same number as energy(), from the per-face sums of the map as
+  /// committed: only the faces an edit has touched since they were last
+  /// summed are cut (on the caller's arena's threads).
+  double cached_energy() const;
   /// Energy of the pieces of some faces of one side (each face's stretch
-  /// sums cached until an edit may change them).
+  /// sums cached until an edit may change them; the faces without them cut
+  /// on the caller's arena's threads, the sum in the faces' order).
   double faces_energy(int side, const std::vector<int>& faces) const;
   /// What energy() sums (the sides' areas and the options' weights).
   EnergyTerms energy_terms() const;
@@ -369,7 +374,8 @@ class InterSurfaceMap {
   /// proposal there.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
   /// Checks the changed faces of side s after an edit (see the file
-  /// comment); their energy when asked.
+  /// comment); their energy when asked. The faces are cut on the caller's
+  /// arena's threads; the first problem in the faces' order is returned.
   std::optional<std::string> check_faces(int s, const std::vector<int>& faces,
                                          std::vector<StretchSums>* sums) const;
   /// The energy of stretch sums (one per face), summed in order.

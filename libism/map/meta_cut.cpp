@@ -622,7 +622,13 @@ bool planar_cells(const std::vector<Vec2>& position,
   for (std::size_t u = 0; u < n; ++u) {
     const int b = first[u], e = first[u + 1];
     if (b == e) continue;
-    std::sort(around.begin() + b, around.begin() + e);
+    // (Mostly two to six neighbours: sorted by insertion, the same order.)
+    if (e - b > 16)
+      std::sort(around.begin() + b, around.begin() + e);
+    else
+      for (int i = b + 1; i < e; ++i)
+        for (int k = i; k > b && around[k] < around[k - 1]; --k)
+          std::swap(around[k], around[k - 1]);
     for (int i = b + 1; i < e; ++i)
       if (around[i].second == around[i - 1].second)
         return fail("two segments join the same meta-vertices");
@@ -774,8 +780,10 @@ struct PieceQuality {
 // numbers its edges, so its keys, anew). A triangle is its own fan (apex 0).
 int best_fan(std::span<const Vec2> P, std::span<const Vec2> Q) {
   const int n = int(P.size());
+  // (A triangle's quality is positive exactly where it is on both sides:
+  // the areas it is divided by are positive.)
+  if (n == 3) return orient(P[0], P[1], P[2]) > 0 && orient(Q[0], Q[1], Q[2]) > 0 ? 0 : -1;
   const PieceQuality quality(P, Q);
-  if (n == 3) return quality(0, 1, 2) > 0 ? 0 : -1;
   int first = 0;
   for (int a = 1; a < n; ++a)
     if (P[a].x() < P[first].x() || (P[a].x() == P[first].x() && P[a].y() < P[first].y())) first = a;

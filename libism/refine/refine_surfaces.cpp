@@ -173,11 +173,12 @@ class Planner {
 /// plan when given; the gain (the step reported when kept). Its time goes
 /// to `stats` by chart.
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
-                RefineStage stage, Backoff* backoff, SurfaceRefineStats& stats,
+                RefineStage stage, Planner& planner, Backoff* backoff, SurfaceRefineStats& stats,
                 InterSurfaceMap::VertexPlan* plan = nullptr) {
   if (backoff && backoff->skip(side, v)) return 0.0;
   const Stopwatch watch;
-  const double g = plan ? map.commit_plan(*plan) : map.optimize_vertex(side, v);
+  double g = 0;
+  planner.run([&] { g = plan ? map.commit_plan(*plan) : map.optimize_vertex(side, v); });
   const ChartKind chart = map.last_chart();
   if (chart != ChartKind::none) ++stats.optimizations_by_stage[std::size_t(stage)];
   stats.seconds_by_chart[std::size_t(chart)] += watch.seconds();
@@ -252,7 +253,7 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
         planner.plan(batch, backoff, stats);
       }
       for (std::size_t k = k0; k < k1; ++k)
-        gain += optimise(map, options, side, order[k], stage, backoff, stats,
+        gain += optimise(map, options, side, order[k], stage, planner, backoff, stats,
                          planning ? &planner.plan(k - k0) : nullptr);
       k0 = k1;
     }
@@ -301,7 +302,9 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   };
   for (const auto& [side, v] : seeds) enqueue(side, v);
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
-  const double threshold = options.local_relaxation_gain * map.energy() / vertices;
+  double energy = 0;
+  planner.run([&] { energy = map.cached_energy(); });
+  const double threshold = options.local_relaxation_gain * energy / vertices;
   std::vector<int> gaining;  // moves of side 1 that gained, per vertex (with discs only)
   if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
   // With plans: the queue's first entries planned together; committed as
@@ -325,7 +328,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     queue.pop_front();
     queued[side][v] = 0;
     InterSurfaceMap::VertexPlan* plan = planning ? &planner.plan(next_plan++) : nullptr;
-    const double g = optimise(map, options, side, v, stage, backoff, timing, plan);
+    const double g = optimise(map, options, side, v, stage, planner, backoff, timing, plan);
     stats.gain += g;
     if (!(g > threshold)) continue;
     for (int w : map.neighbours(side, v)) enqueue(side, w);
@@ -573,7 +576,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                      RefineStage::hard_splits, planner, backoff, stats));
     }
     if (level) {
-      const double e = map.energy();
+      double e = 0;
+      planner.run([&] { e = map.cached_energy(); });
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
         if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats) < 1e-3 * e)
@@ -597,7 +601,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                                  *problem);
   }
   for (int k = 0; k < options.max_final_sweeps; ++k) {
-    const double e = map.energy();
+    double e = 0;
+    planner.run([&] { e = map.cached_energy(); });
     ++stats.final_sweeps;
     if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats) <
         options.final_relative_gain * e)
