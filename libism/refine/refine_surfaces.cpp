@@ -119,6 +119,13 @@ class Planner {
     else
       work();
   }
+  /// The map's energy (InterSurfaceMap::cached_energy: the faces touched
+  /// since they were summed cut on the planner's threads).
+  double energy() {
+    double e = 0;
+    run([&] { e = map_.cached_energy(); });
+    return e;
+  }
   /// Whether plans are made: more than one thread.
   bool on() const { return threads_ > 1; }
   /// How many vertices a batch plans.
@@ -170,8 +177,9 @@ class Planner {
 };
 
 /// Optimises v (unless the back-off, when given, skips it), through its
-/// plan when given; the gain (the step reported when kept). Its time goes
-/// to `stats` by chart.
+/// plan when given, on the planner's threads (the faces it checks are cut
+/// concurrently); the gain (the step reported when kept). Its time goes to
+/// `stats` by chart.
 double optimise(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side, int v,
                 RefineStage stage, Planner& planner, Backoff* backoff, SurfaceRefineStats& stats,
                 InterSurfaceMap::VertexPlan* plan = nullptr) {
@@ -302,9 +310,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
   };
   for (const auto& [side, v] : seeds) enqueue(side, v);
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
-  double energy = 0;
-  planner.run([&] { energy = map.cached_energy(); });
-  const double threshold = options.local_relaxation_gain * energy / vertices;
+  const double threshold = options.local_relaxation_gain * planner.energy() / vertices;
   std::vector<int> gaining;  // moves of side 1 that gained, per vertex (with discs only)
   if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
   // With plans: the queue's first entries planned together; committed as
@@ -576,8 +582,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                      RefineStage::hard_splits, planner, backoff, stats));
     }
     if (level) {
-      double e = 0;
-      planner.run([&] { e = map.cached_energy(); });
+      const double e = planner.energy();
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
         if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats) < 1e-3 * e)
@@ -601,8 +606,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                                  *problem);
   }
   for (int k = 0; k < options.max_final_sweeps; ++k) {
-    double e = 0;
-    planner.run([&] { e = map.cached_energy(); });
+    const double e = planner.energy();
     ++stats.final_sweeps;
     if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats) <
         options.final_relative_gain * e)
