@@ -112,6 +112,10 @@ void Run::end_stage() {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start_).count();
   Json& slot = stages_[stage_name_];
   slot = slot.is_null() ? Json(seconds) : slot;  // a repeated stage keeps its first timing
+  // The process's peak so far: a stage whose figure exceeds the one before
+  // raised the peak (a repeated stage keeps its first figure, as its time).
+  Json& peak = stage_peaks_[stage_name_];
+  if (peak.is_null()) peak = double(peak_memory_bytes()) / (1024.0 * 1024.0);
   stage_name_.clear();
 }
 
@@ -125,6 +129,7 @@ void Run::finish() {
   report_["seconds"]["total"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   report_["peak_memory_mb"] = double(peak_memory_bytes()) / (1024.0 * 1024.0);
+  report_["peak_memory_mb_by_stage"] = stage_peaks_;
   if (options_.report_path.empty()) return;
   OutputFile out(options_.report_path, inputs_);
   {

@@ -76,7 +76,10 @@ class Run {
   void check_output(const std::filesystem::path& path) const;
   const std::vector<std::filesystem::path>& inputs() const { return inputs_; }
 
-  /// Starts a named stage (ends the previous one); its wall time is reported.
+  /// Starts a named stage (ends the previous one). The report gives its
+  /// wall time ("seconds") and the process's peak resident memory when it
+  /// ended ("peak_memory_mb_by_stage": the peak so far, so it never falls;
+  /// the stage at which it rises is the one that raised it).
   Progress& stage(const std::string& name);
   /// A note on stderr unless quiet.
   void note(const std::string& message) const;
@@ -96,6 +99,7 @@ class Run {
   std::string stage_name_;
   std::chrono::steady_clock::time_point stage_start_;
   Json stages_ = Json::object();
+  Json stage_peaks_ = Json::object();  // MB at each stage's end
   Progress progress_;
 };
 

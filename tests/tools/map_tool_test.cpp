@@ -168,6 +168,23 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
     EXPECT_EQ(race["kept"].get<int>(), int(best));
     EXPECT_GT(e[std::size_t(best)], 0.5);
   }
+  // Peak memory at the end of every stage timed: never falling, at most the
+  // run's peak.
+  {
+    const auto report_json = nlohmann::ordered_json::parse(json);  // (stages in order)
+    const auto& peaks = report_json["peak_memory_mb_by_stage"];
+    ASSERT_TRUE(peaks.is_object()) << json;
+    double before = 0;
+    for (const auto& [stage, seconds] : report_json["seconds"].items()) {
+      if (stage == "total") continue;
+      ASSERT_TRUE(peaks.contains(stage)) << stage;
+      const double mb = peaks[stage].get<double>();
+      EXPECT_GE(mb, before) << stage;
+      before = mb;
+    }
+    EXPECT_GT(before, 0);
+    EXPECT_LE(before, report_json["peak_memory_mb"].get<double>());
+  }
 
   const TriangleMesh a = read_input(f.sphere), b = read_input(f.blob);
   const TriangleMesh on_a = read_raw(prefix.string() + "_on_A.obj"),
