@@ -113,9 +113,10 @@ struct MapOperationStats {
   std::size_t general = 0;        // charts with the other side's vertices or bends inside
   std::size_t rejected = 0;       // moves refused by the transaction's check
   std::size_t splits = 0;
-  std::size_t splits_in_place = 0;   // splits that needed the in-place fallback
-  std::size_t split_retries = 0;     // splits undone, their neighbourhood moved, tried again
-  std::size_t splits_old_moved = 0;  // placed once the old vertex moved (a last attempt)
+  std::size_t splits_in_place = 0;     // splits that needed the in-place fallback
+  std::size_t split_retries = 0;       // splits undone, their neighbourhood moved, tried again
+  std::size_t splits_later_round = 0;  // placed after the first round of retries
+  std::size_t splits_old_moved = 0;    // placed once the old vertex moved (a last attempt)
   /// Kept moves whose chart energy at the chosen place differs from the
   /// ring's energy after the move by more than 1 %, and the largest
   /// relative difference (a general chart's non-affine pieces are fanned
@@ -174,17 +175,19 @@ class InterSurfaceMap {
   /// map exactly as before), the other side's vertices in and on the ring,
   /// the split vertex and its neighbours are optimised (retry r: its rings
   /// out to r + 1 edges away), and the split tried again, the last time
-  /// accepting any valid place; after kSplitRetries
-  /// such rounds it throws std::runtime_error, the map still valid at the
-  /// split before. The candidate places are evaluated in parallel (TBB, in
-  /// the calling thread's arena); the result does not depend on the number
-  /// of threads.
+  /// accepting any valid place; that is a round of kSplitRetries retries,
+  /// and the rings keep widening through kSplitRounds of them (a split the
+  /// first round places is placed as with one round). After the last it
+  /// throws std::runtime_error, the map still valid at the split before. The candidate places are
+  /// evaluated in parallel (TBB, in the calling thread's arena); the result does not depend on the
+  /// number of threads.
   int split_next(int side);
   /// The energy of the faces the last split_next changed (the split
   /// vertex's old ring and the two new faces) over that of the old ring
   /// before it; 0 before any split.
   double last_split_growth() const { return last_split_growth_; }
   static constexpr int kSplitRetries = 6;
+  static constexpr int kSplitRounds = 2;
   static constexpr double kSplitEnergyCap = 100;
 
   /// Moves vertex v of `side` over the other side to lower the energy

@@ -1993,7 +1993,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   // chart), vt goes to the middle of the kernel of the whole ring and the
   // candidates are tried again around it, before the split in place.
   std::vector<Vec2> vt_places{chart.centre};
-  if (charted && !(cap < HUGE_VAL))
+  if (charted && !(cap < HUGE_VAL) && !pinned_[s][vt])  // (a held feature stays)
     if (const auto middle = kernel_centroid(boundary_polygon(chart, 0, m)))
       if (*middle != chart.centre) vt_places.push_back(*middle);
   for (std::size_t round = 0; charted && round < vt_places.size(); ++round) {
@@ -2145,19 +2145,24 @@ int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
   for (int attempt = 0;; ++attempt) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
-    // are refused but in the last attempt: such a piece is nearly
-    // degenerate, and later moves often cannot undo it.
-    const int vs = try_split(s, true, attempt < kSplitRetries ? kSplitEnergyCap : HUGE_VAL);
+    // are refused but in the last attempt of each round: such a piece is
+    // nearly degenerate, and later moves often cannot undo it. A split the
+    // first round places is placed as with one round.
+    const bool uncapped = attempt % (kSplitRetries + 1) == kSplitRetries;
+    const int vs = try_split(s, true, uncapped ? HUGE_VAL : kSplitEnergyCap);
     // (Placed or undone, a split changes connectivity and metrics: every
     // plan is stale, and the other side's cached energies.)
     touch_all({1 - s});
-    if (vs >= 0) return vs;
+    if (vs >= 0) {
+      stats_.splits_later_round += attempt > kSplitRetries;
+      return vs;
+    }
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
-    if (attempt == kSplitRetries)
+    if (attempt == kSplitRounds * (kSplitRetries + 1) - 1)
       throw std::runtime_error(
           std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
           " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
-          "): no valid placement of the new vertex after " + std::to_string(kSplitRetries) +
+          "): no valid placement of the new vertex after " + std::to_string(attempt) +
           " retries (chart " + std::to_string(chart_failure_) + "; in place: " + last_refusal_ +
           ")");
     // The map is as before the split. Move what makes vt's ring hard to

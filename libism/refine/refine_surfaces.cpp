@@ -544,7 +544,18 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       }
       const Stopwatch split_watch;
       int vs = -1;
-      planner.run([&] { vs = map.split_next(side); });
+      try {
+        planner.run([&] { vs = map.split_next(side); });
+      } catch (const std::runtime_error&) {
+        // The map is as before the split. Holding the features may be what
+        // blocks it: release them now, as the schedule would later.
+        if (released || options.release_features_at < 0) throw;
+        stats.features_released_early_at =
+            double(map.splits_applied(0) + map.splits_applied(1)) / double(total_splits);
+        map.release_features();
+        released = true;
+        planner.run([&] { vs = map.split_next(side); });
+      }
       stats.seconds_splits += split_watch.seconds();
       ++in_block;
       ++stats.splits;

@@ -185,6 +185,9 @@ struct SurfaceRefineStats {
   /// commits count by chart above).
   double seconds_planning = 0;
   bool stopped = false;  // after_level returned false: not fully refined
+  /// The fraction of the splits done when the held features were released
+  /// early because a split found no place while they were held (-1: not).
+  double features_released_early_at = -1;
   /// The coarse race (SurfaceRefineOptions::race_level_sweeps): each
   /// schedule's energy where the race ended (same order; HUGE_VAL for a
   /// copy whose split failed), the winner's
@@ -197,6 +200,10 @@ struct SurfaceRefineStats {
 /// Refines both sides to full resolution. Throws std::runtime_error (from
 /// InterSurfaceMap::split_next, naming the split) when a split finds no valid
 /// place after its retries; the map is then the valid one before that split.
+/// When the features are to be released later (release_features_at >= 0)
+/// and a split fails while they are held, they are released there and the
+/// split tried again (a held feature may be the vertex that has to move);
+/// only that second failure throws.
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// One line (no newline) on a refinement refine_surfaces stopped with the

@@ -56,12 +56,15 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["general_fraction"] = double(o.general) / n;
   j["splits_in_place"] = o.splits_in_place;
   j["split_retries"] = o.split_retries;
+  j["splits_placed_in_a_later_round"] = o.splits_later_round;
   j["splits_old_vertex_moved"] = o.splits_old_moved;
   j["moves_predicted_off_1pc"] = o.mispredicted;
   j["worst_prediction"] = o.worst_prediction;
   j["sweeps"] = stats.sweeps;
   j["final_sweeps"] = stats.final_sweeps;
   j["hard_splits"] = stats.hard_splits;
+  if (stats.features_released_early_at >= 0)
+    j["features_released_early_at"] = stats.features_released_early_at;
   j["large_chart_skips"] = stats.large_chart_skips;
   j["discs"] = stats.discs;
   j["discs_applied"] = stats.discs_applied;
