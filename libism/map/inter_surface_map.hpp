@@ -178,9 +178,10 @@ class InterSurfaceMap {
   /// accepting any valid place; that is a round of kSplitRetries retries,
   /// and the rings keep widening through kSplitRounds of them (a split the
   /// first round places is placed as with one round). After the last it
-  /// throws std::runtime_error, the map still valid at the split before. The candidate places are
-  /// evaluated in parallel (TBB, in the calling thread's arena); the result does not depend on the
-  /// number of threads.
+  /// throws std::runtime_error, the map still valid at the split before.
+  /// A held feature (a pinned vertex) is never moved by a split. The
+  /// candidate places are evaluated in parallel (TBB, in the calling
+  /// thread's arena); the result does not depend on the number of threads.
   int split_next(int side);
   /// The energy of the faces the last split_next changed (the split
   /// vertex's old ring and the two new faces) over that of the old ring
