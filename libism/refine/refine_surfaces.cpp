@@ -512,25 +512,26 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     bool hard;  // its growth above options.hard_split_growth
   };
   std::vector<Split> splits;
+  // Both sides' splits applied so far.
+  auto applied = [&] { return double(map.splits_applied(0) + map.splits_applied(1)); };
   bool released = false;
+  auto release = [&] {
+    map.release_features();
+    released = true;
+  };
   // How far optimisations search: the fine way from fine_search_from of
   // the splits on (the final sweeps too).
   bool fine = false;
   auto search_settings = [&] {
-    if (!fine && double(map.splits_applied(0) + map.splits_applied(1)) >=
-                     options.fine_search_from * double(total_splits))
-      fine = true;
+    if (!fine && applied() >= options.fine_search_from * double(total_splits)) fine = true;
     map.set_search(fine ? options.fine_search : options.search);
   };
   for (;;) {
     search_settings();
     if (fraction(0) >= 1 && fraction(1) >= 1) break;
     if (!released && options.release_features_at >= 0 &&
-        double(map.splits_applied(0) + map.splits_applied(1)) >=
-            options.release_features_at * double(total_splits)) {
-      map.release_features();
-      released = true;
-    }
+        applied() >= options.release_features_at * double(total_splits))
+      release();
     // A batch of splits, then their new rings optimised together (by
     // colour, planned ahead), then the other side's vertices inside them.
     splits.clear();
@@ -550,10 +551,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         // The map is as before the split. Holding the features may be what
         // blocks it: release them now, as the schedule would later.
         if (released || options.release_features_at < 0) throw;
-        stats.features_released_early_at =
-            double(map.splits_applied(0) + map.splits_applied(1)) / double(total_splits);
-        map.release_features();
-        released = true;
+        stats.features_released_early_at = applied() / double(total_splits);
+        release();
         planner.run([&] { vs = map.split_next(side); });
       }
       stats.seconds_splits += split_watch.seconds();
@@ -565,9 +564,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       rings[side].push_back(vs);
       const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
       level = double(total) >= options.sweep_growth * double(last_sweep);
-      if (options.progress && total_splits)
-        options.progress(double(map.splits_applied(0) + map.splits_applied(1)) /
-                         double(total_splits));
+      if (options.progress && total_splits) options.progress(applied() / double(total_splits));
     }
     for (int s = 0; s < 2; ++s)
       optimise_by_colour(map, options, s, by_colour(map, s, rings[s]), RefineStage::split_rings,
