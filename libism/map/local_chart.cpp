@@ -2162,6 +2162,7 @@ int InterSurfaceMap::split_next(int s) {
       throw std::runtime_error(
           std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
           " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
+          (pinned_[s][sp.vt] ? ", a feature held on the other surface" : "") +
           "): no valid placement of the new vertex after " + std::to_string(attempt) +
           " retries (chart " + std::to_string(chart_failure_) + "; in place: " + last_refusal_ +
           ")");
