@@ -1128,6 +1128,17 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   // Of the faces `allowed`, the one whose chart triangle is nearest to
   // holding p (the largest smallest barycentric coordinate).
   auto deepest = [&](const Vec2& p, std::uint64_t allowed) {
+    // A triangle that holds p strictly, if it is the only one, is the
+    // deepest (its smallest coordinate is positive, every other's is not;
+    // the signs are barycentric's own numerators): found without divisions.
+    int holding = -1, n_holding = 0;
+    for (std::size_t i = 0; i < T && n_holding < 2; ++i) {
+      if (i < 64 && !(allowed >> i & 1)) continue;
+      const auto& c = tri_chart[i];
+      if (orient(p, c[1], c[2]) > 0 && orient(c[0], p, c[2]) > 0 && orient(c[0], c[1], p) > 0)
+        holding = int(i), ++n_holding;
+    }
+    if (n_holding == 1) return holding;
     int best = -1;
     double depth = -HUGE_VAL;
     for (std::size_t i = 0; i < T; ++i) {
