@@ -75,16 +75,27 @@ bool NetworkSurface::may_leave_through(int feature, int w) const {
                                                 : class_[w] == VertexClass::interior;
 }
 
+void NetworkSurface::flag_path(const std::vector<int>& path, char on) {
+  // (As the keys do: every edge between the two vertices.)
+  if (network_edge_.size() < mesh_.n_edges()) network_edge_.resize(mesh_.n_edges(), 0);
+  for (std::size_t k = 1; k < path.size(); ++k)
+    for (const auto h : mesh_.voh_range(Mesh::VertexHandle(path[k - 1])))
+      if (mesh_.to_vertex_handle(h).idx() == path[k])
+        network_edge_[std::size_t(mesh_.edge_handle(h).idx())] = on;
+}
+
 void NetworkSurface::add_path(const std::vector<int>& path) {
   for (std::size_t k = 1; k + 1 < path.size(); ++k) on_network_[path[k]] = 1;
   for (std::size_t k = 1; k < path.size(); ++k)
     network_edges_.insert(undirected_edge_key(path[k - 1], path[k]));
+  flag_path(path, 1);
 }
 
 void NetworkSurface::remove_path(const std::vector<int>& path) {
   for (std::size_t k = 1; k + 1 < path.size(); ++k) on_network_[path[k]] = 0;
   for (std::size_t k = 1; k < path.size(); ++k)
     network_edges_.erase(undirected_edge_key(path[k - 1], path[k]));
+  flag_path(path, 0);
 }
 
 bool NetworkSurface::is_loop_edge(Mesh::EdgeHandle e) const {
@@ -110,8 +121,7 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
       const auto f = stack.back();
       stack.pop_back();
       for (const auto g : mesh_.fh_range(f)) {
-        const int u = mesh_.from_vertex_handle(g).idx(), v = mesh_.to_vertex_handle(g).idx();
-        if (network_edges_.count(undirected_edge_key(u, v))) continue;
+        if (flagged(mesh_.edge_handle(g))) continue;
         const auto next = mesh_.face_handle(mesh_.opposite_halfedge_handle(g));
         if (next.is_valid() && !frozen[next.idx()]) {
           frozen[next.idx()] = 1;
@@ -129,7 +139,7 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
       const auto f = mesh_.face_handle(mesh_.halfedge_handle(e, 0));
       if (f.is_valid() && std::size_t(f.idx()) < frozen.size() && frozen[f.idx()]) continue;
       if (class_[a] == VertexClass::centre || class_[b] == VertexClass::centre) continue;
-      if (network_edges_.count(undirected_edge_key(a, b))) continue;
+      if (flagged(e) || !(blocked(a) && blocked(b))) continue;  // (on the network: blocked)
       const bool loop = is_loop_edge(e);
       if (loop ? on_network_[a] && on_network_[b] : blocked(a) && blocked(b))
         to_split.push_back({e, loop});

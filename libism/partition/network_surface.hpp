@@ -135,6 +135,13 @@ class NetworkSurface {
   std::vector<char> on_network_;
   std::vector<char> near_network_;  // a neighbour on the network (as of the last split)
   EdgeSet network_edges_;
+  /// Per mesh edge, whether its key is in network_edges_ (the hot loops'
+  /// test, without hashing; edges added by splits are off the network).
+  std::vector<char> network_edge_;
+  void flag_path(const std::vector<int>& path, char on);
+  bool flagged(Mesh::EdgeHandle e) const {
+    return std::size_t(e.idx()) < network_edge_.size() && network_edge_[std::size_t(e.idx())];
+  }
   mutable RegionCount region_count_;  // remembers the regions between counts
   std::size_t input_vertices_ = 0;
   double scale_ = 1;
