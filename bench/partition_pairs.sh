@@ -3,7 +3,8 @@
 # its landmarks, the model pairs without pairs (automatic features), fewer
 # pairs than needed (4 of cat/horse, 1 on genus 1 and 2), and the timing row:
 # bunny <-> dragon (~64K faces each) with the 6 pairs of
-# bench/data/bunny__dragon.pairs.txt. Each run's wall time, CPU time and peak
+# bench/data/bunny__dragon.pairs.txt (and with the 6 anatomical pairs of
+# bench/data/bunny__dragon.landmarks.txt). Each run's wall time, CPU time and peak
 # memory come from /usr/bin/time -v. Prints a Markdown table; needs python3.
 #   bench/partition_pairs.sh > docs/results-partition.md
 #   ONLY="bunny_dragon" bench/partition_pairs.sh     # one row
@@ -36,6 +37,8 @@ add "double_torus__eight_loop2 (1 pair: vertex 0, 0)" "$models_dir/double_torus.
   "$models_dir/eight_loop2.obj" "$work/one.txt"
 add "bunny_dragon" "$models_dir/bunny.obj" "$models_dir/dragon.obj" \
   "$root/bench/data/bunny__dragon.pairs.txt"
+add "bunny_dragon (landmarks)" "$models_dir/bunny.obj" "$models_dir/dragon.obj" \
+  "$root/bench/data/bunny__dragon.landmarks.txt"
 printf '%s\n' "${rows[@]}" >"$work/rows"
 python3 - "$work" "$commit" "$root" <<'PY'
 import json, os, platform, re, sys
@@ -76,7 +79,8 @@ print("Rows: the six pairs of `../shared/pairs` with all their landmarks; the mo
       "on the other surface by its geodesic distances to them); fewer pairs than needed (the first "
       "4 of cat/horse, the first of the vase, vertex 0 of both genus-2 models); and `bunny_dragon`, "
       "the timing case (~64K faces each, the 6 pairs of `bench/data/bunny__dragon.pairs.txt`: each "
-      "model's extreme vertices along -x, +x, -y, +y, -z, +z, a fixed choice, not anatomical). "
+      "model's extreme vertices along -x, +x, -y, +y, -z, +z, a fixed choice, not anatomical; "
+      "`(landmarks)`: the 6 anatomical pairs of `bench/data/bunny__dragon.landmarks.txt`). "
       "`added` counts automatic features and those the tracing adds (on cycles that would close on "
       "one feature or join joined ones, on splitting paths between joined features, at boundary "
       "clip points); the report lists each with its origin. The machine is shared: wall times "

@@ -485,6 +485,10 @@ class InterSurfaceMap {
   std::string last_refusal_;  // why the transaction last refused an edit (diagnostics)
   double last_split_growth_ = 0;
   ChartKind last_chart_ = ChartKind::none;
+  /// Tests only (InterSurfaceMapTestAccess): split_next's next this many
+  /// attempts find no place without trying, so the retries and the later
+  /// rounds run on maps whose splits would all be placed at once.
+  int refused_split_attempts_ = 0;
 };
 
 }  // namespace ism

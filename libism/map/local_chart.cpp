@@ -2160,7 +2160,9 @@ int InterSurfaceMap::split_next(int s) {
     // nearly degenerate, and later moves often cannot undo it. A split the
     // first round places is placed as with one round.
     const bool uncapped = attempt % (kSplitRetries + 1) == kSplitRetries;
-    const int vs = try_split(s, true, uncapped ? HUGE_VAL : kSplitEnergyCap);
+    const bool refused = refused_split_attempts_ > 0;  // (tests)
+    if (refused) --refused_split_attempts_;
+    const int vs = refused ? -1 : try_split(s, true, uncapped ? HUGE_VAL : kSplitEnergyCap);
     // (Placed or undone, a split changes connectivity and metrics: every
     // plan is stale, and the other side's cached energies.)
     touch_all({1 - s});

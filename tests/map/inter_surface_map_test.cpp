@@ -3,6 +3,7 @@
 #include "map/inter_surface_map.hpp"
 #include "domain/domain.hpp"
 #include "io/io.hpp"
+#include "map/inter_surface_map_access.hpp"
 #include "map/inter_surface_map_impl.hpp"
 #include "mesh/mesh_check.hpp"
 #include "partition/compatible_networks.hpp"
@@ -23,26 +24,6 @@
 #include <random>
 
 namespace ism {
-
-// The split's undo, reached from tests only.
-struct InterSurfaceMapTestAccess {
-  static int split_and_undo(InterSurfaceMap& map, int side) { return map.try_split(side, false); }
-  static const MetaIndex& index(const InterSurfaceMap& map) { return map.index_; }
-  /// The energy of v's ring with v moved by `offset` in its chart, as a
-  /// large chart sums it (the pieces' stretch per face of s) and cell by
-  /// cell; NaN if the chart is not large.
-  static std::array<double, 2> large_chart_energies(const InterSurfaceMap& map, int s, int v,
-                                                    const Vec2& offset) {
-    InterSurfaceMap::Chart chart;
-    if (!map.build_chart(s, v, chart) || !chart.large()) return {NAN, NAN};
-    InterSurfaceMap::Layout layout;
-    map.ring_layout(chart, layout);
-    layout.inner[0].pos = chart.centre + offset;
-    const double summed = map.evaluate(chart, layout, nullptr);
-    for (auto& fragment : chart.fragments) fragment.summable = false;
-    return {summed, map.evaluate(chart, layout, nullptr)};
-  }
-};
 
 namespace {
 
@@ -552,6 +533,62 @@ TEST(InterSurfaceMap, AnUndoneSplitLeavesTheMapExactlyAsItWas) {
   EXPECT_EQ(undone, map.splits_total(0) + map.splits_total(1));
   EXPECT_GT(undone, 100u);
   EXPECT_FALSE(map.validate());
+}
+
+TEST(InterSurfaceMap, SplitsPlacedInTheSecondRoundOrRefusedKeepTheMapValid) {
+  // The retries no generated pair needs (the bench's teapot rows do): a
+  // split whose first round of attempts all fail is placed in the second
+  // round, after its neighbourhood was moved; one failing every attempt of
+  // both rounds throws, the map still valid at the split before and no
+  // higher in energy; refinement then goes on to full resolution.
+  const TriangleMesh a = shapes::sphere(300), b = shapes::blob(400, 3);
+  const ProgressiveMesh pa = octahedral_pm(a), pb = octahedral_pm(b);
+  InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+  constexpr int kRound = InterSurfaceMap::kSplitRetries + 1;
+  std::size_t later = 0, refused = 0;
+  for (int step = 0;; ++step) {
+    const int side = step % 2 == 0 && map.splits_applied(0) < map.splits_total(0) ? 0 : 1;
+    if (map.splits_applied(side) >= map.splits_total(side)) break;
+    const std::size_t applied = map.splits_applied(side), retries = map.stats().split_retries;
+    if (step % 100 == 50) {  // fails every attempt: throws, nothing applied
+      const double energy = map.energy();
+      InterSurfaceMapTestAccess::refuse_split_attempts(map, InterSurfaceMap::kSplitRounds * kRound);
+      try {
+        map.split_next(side);
+        ADD_FAILURE() << "step " << step << ": a split refused every attempt was placed";
+        return;
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no valid placement"), std::string::npos) << e.what();
+      }
+      ++refused;
+      ASSERT_EQ(map.splits_applied(side), applied) << "step " << step;
+      ASSERT_EQ(map.stats().split_retries, retries + InterSurfaceMap::kSplitRounds * kRound - 1);
+      ASSERT_LE(map.energy(), energy * (1 + 1e-12)) << "step " << step;
+      ASSERT_EQ(map.validate(), std::nullopt) << "step " << step << ": " << *map.validate();
+    }
+    const bool second_round = step % 12 == 0;
+    const std::size_t later_before = map.stats().splits_later_round;
+    if (second_round) InterSurfaceMapTestAccess::refuse_split_attempts(map, kRound);
+    const int vs = map.split_next(side);
+    ASSERT_GE(vs, 0) << "step " << step;
+    ASSERT_EQ(map.splits_applied(side), applied + 1);
+    if (second_round) {
+      ++later;
+      ASSERT_EQ(map.stats().splits_later_round, later_before + 1) << "step " << step;
+      ASSERT_GE(map.stats().split_retries, retries + kRound);
+      ASSERT_EQ(map.validate(), std::nullopt) << "step " << step << ": " << *map.validate();
+    }
+    for (int v : map.neighbours(side, vs)) map.optimize_vertex(side, v);
+    map.optimize_vertex(side, vs);
+  }
+  std::printf("%zu splits placed in the second round, %zu refused; %zu retries\n", later, refused,
+              map.stats().split_retries);
+  EXPECT_GT(later, 20u);
+  EXPECT_GE(refused, 3u);
+  EXPECT_EQ(map.n_faces(0), replay(pa).n_faces());
+  EXPECT_EQ(map.n_faces(1), replay(pb).n_faces());
+  EXPECT_EQ(map.validate(), std::nullopt);
+  EXPECT_GT(map.measures().symmetric_efficiency, 0.3);
 }
 
 TEST(InterSurfaceMap, BothSidesRefineSphereAndBlob) {

@@ -6,6 +6,7 @@
 #include "domain/domain.hpp"
 #include "io/io.hpp"
 #include "map/inter_surface_map.hpp"
+#include "map/inter_surface_map_access.hpp"
 #include "map/meta_mesh.hpp"
 #include "map/surface_map.hpp"
 #include "mesh/curvature.hpp"
@@ -266,6 +267,46 @@ TEST(RefineSurfaces, HeldFeaturesAreReleasedPartOfTheWay) {
       EXPECT_TRUE(released_seen);
       EXPECT_LT(on_partners(map), 6u);  // released, the features moved
     }
+  }
+}
+
+TEST(RefineSurfaces, ASplitBlockedWhileFeaturesAreHeldReleasesThemEarly) {
+  // A split that finds no place in any retry while the features are held
+  // (stop 76's teapot <-> cup: a held feature's split) releases them at
+  // once, before release_features_at, and is tried again; the map refines
+  // to full resolution, valid. When the features are never released, or
+  // already are, the split's error stops the refinement.
+  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
+  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  InterSurfaceOptions held;
+  held.hold_features = true;
+  const std::size_t total = pa.splits.size() + pb.splits.size();
+  const int every = InterSurfaceMap::kSplitRounds * (InterSurfaceMap::kSplitRetries + 1);
+  for (const double at : {0.6, 0.0, -1.0}) {
+    SCOPED_TRACE(at);
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb), held);
+    SurfaceRefineOptions options;
+    options.release_features_at = at;
+    std::size_t splits = 0;
+    options.on_step = [&](const SurfaceStep& step) {
+      if (step.kind == SurfaceStep::split && ++splits == total / 4)
+        InterSurfaceMapTestAccess::refuse_split_attempts(map, every);  // the next split fails
+    };
+    if (at <= 0) {  // never released, or released from the start
+      EXPECT_THROW(refine_surfaces(map, options), std::runtime_error);
+      EXPECT_EQ(map.splits_applied(0) + map.splits_applied(1), total / 4);
+      EXPECT_EQ(map.is_pinned(0, pa.base_vertices[0]), at < 0);
+      EXPECT_FALSE(map.validate());
+      continue;
+    }
+    const SurfaceRefineStats stats = refine_surfaces(map, options);
+    EXPECT_DOUBLE_EQ(stats.features_released_early_at, double(total / 4) / double(total));
+    EXPECT_FALSE(map.is_pinned(0, pa.base_vertices[0]));
+    EXPECT_EQ(map.splits_applied(0), pa.splits.size());
+    EXPECT_EQ(map.splits_applied(1), pb.splits.size());
+    EXPECT_FALSE(map.validate());
   }
 }
 
