@@ -21,6 +21,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -223,14 +224,19 @@ TEST(RefineSurfaces, CoarseRaceKeepsTheLowestEnergyAndGoesOnAsOneCall) {
   EXPECT_EQ(one.measures().symmetric_efficiency, plain.measures().symmetric_efficiency);
 }
 
+/// A sphere and a blob, each simplified to the octahedron (its six
+/// vertices the features), for the tests of held features.
+std::array<ProgressiveMesh, 2> held_pair() {
+  const TriangleMesh octahedron = domain::octahedron();
+  return {simplify_constrained(trace_octahedral_network(shapes::sphere(200)), octahedron),
+          simplify_constrained(trace_octahedral_network(shapes::blob(240, 3)), octahedron)};
+}
+
 // Features held, then released part of the way: the base vertices stay on
 // each other through the first part of the splits and move after it (and
 // never when release_features_at is negative).
 TEST(RefineSurfaces, HeldFeaturesAreReleasedPartOfTheWay) {
-  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
-  const TriangleMesh octahedron = domain::octahedron();
-  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
-  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  const auto [pa, pb] = held_pair();
   InterSurfaceOptions held;
   held.hold_features = true;
   const std::size_t total = pa.splits.size() + pb.splits.size();
@@ -276,10 +282,7 @@ TEST(RefineSurfaces, ASplitBlockedWhileFeaturesAreHeldReleasesThemEarly) {
   // once, before release_features_at, and is tried again; the map refines
   // to full resolution, valid. When the features are never released, or
   // already are, the split's error stops the refinement.
-  const TriangleMesh a = shapes::sphere(200), b = shapes::blob(240, 3);
-  const TriangleMesh octahedron = domain::octahedron();
-  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
-  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  const auto [pa, pb] = held_pair();
   InterSurfaceOptions held;
   held.hold_features = true;
   const std::size_t total = pa.splits.size() + pb.splits.size();
