@@ -635,7 +635,7 @@ PYBIND11_MODULE(ism, m) {
                    bool hold_features, double release_features_at, const py::object& output,
                    const py::object& meta_mesh, const std::vector<double>& morph, int morph_frames,
                    bool morph_glb, int level_sweeps, const std::vector<int>& race_level_sweeps,
-                   int threads, const py::object& report, bool quiet) {
+                   double relaxation_gain, int threads, const py::object& report, bool quiet) {
         pipeline::MapSurfacesOptions o;
         o.a = one_surface(a, "a");
         o.b = one_surface(b, "b");
@@ -655,6 +655,7 @@ PYBIND11_MODULE(ism, m) {
         o.morph_glb = morph_glb;
         o.level_sweeps = level_sweeps;
         o.race_level_sweeps = race_level_sweeps;
+        o.relaxation_gain = relaxation_gain;
         o.threads = threads;
         auto [r, rep] =
             run_pipeline("ism-map", &pipeline::map_surfaces, o, common_options(report, quiet));
@@ -668,8 +669,8 @@ PYBIND11_MODULE(ism, m) {
       "a"_a, "b"_a, py::kw_only(), "features"_a = py::none(), "hold_features"_a = false,
       "release_features_at"_a = 0.5, "output"_a = py::none(), "meta_mesh"_a = py::none(),
       "morph"_a = std::vector<double>{}, "morph_frames"_a = 0, "morph_glb"_a = false,
-      "level_sweeps"_a = 2, "race_level_sweeps"_a = std::vector<int>{2, 3}, "threads"_a = 0,
-      "report"_a = py::none(), "quiet"_a = false,
+      "level_sweeps"_a = 2, "race_level_sweeps"_a = std::vector<int>{2, 3},
+      "relaxation_gain"_a = 1e-4, "threads"_a = 0, "report"_a = py::none(), "quiet"_a = false,
       "map_surfaces(a, b, *, features=None, ...) -> MapResult(faces, on_a, on_b, a_to_b, "
       "b_to_a, report)\n\n"
       "A continuous bijective piecewise-linear map between two closed surfaces of the same\n"

@@ -89,6 +89,9 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
     if (k < 0 || k > 1000)
       throw tool::Failure(tool + ": --race-level-sweeps takes counts of 0 to 1000 (got " +
                           std::to_string(k) + ")");
+  if (!(o.relaxation_gain >= 0 && o.relaxation_gain <= 1))
+    throw tool::Failure(tool +
+                        ": --relaxation-gain takes a share of the energy per vertex, 0 to 1");
   if (!(o.release_features_at >= 0 && o.release_features_at <= 1))
     throw tool::Failure(tool +
                         ": --release-features-at takes a fraction of the refinement, 0 to 1");
@@ -242,6 +245,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.threads = o.threads;
   refine.max_level_sweeps = o.level_sweeps;
   refine.race_level_sweeps = o.race_level_sweeps;
+  refine.local_relaxation_gain = o.relaxation_gain;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.fine_search = {1e-3, 1};
   refine.search.model_seed = refine.fine_search.model_seed = true;
@@ -339,6 +343,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
        {{"tolerance", refine.fine_search.tolerance}, {"rounds", refine.fine_search.rounds}}},
       {"fine_from", refine.fine_search_from},
       {"model_seed", refine.fine_search.model_seed}};
+  j["relaxation_gain"] = refine.local_relaxation_gain;
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();

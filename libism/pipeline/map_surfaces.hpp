@@ -72,6 +72,13 @@ struct MapSurfacesOptions {
   /// full resolution if fewer; the lowest energy goes on):
   /// SurfaceRefineOptions::race_level_sweeps. Empty: no race.
   std::vector<int> race_level_sweeps{2, 3};
+  /// The local relaxation after each level's sweeps and after the final
+  /// ones: a vertex whose move gains more than this share of the mean
+  /// energy per vertex queues its neighbours
+  /// (SurfaceRefineOptions::local_relaxation_gain). Larger is faster and
+  /// lands in another basin, better or worse by pair (docs/results-ism.md,
+  /// stop 80).
+  double relaxation_gain = 1e-4;
   int threads = 0;  // planning threads of the refinement (0: all)
 };
 

@@ -159,6 +159,20 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_NEAR(report_number(json, "symmetric_dirichlet", "map"), 4 / efficiency, 1e-9);
   EXPECT_EQ(report_number(json, "features_given", "partition"), 2);
   EXPECT_EQ(report_number(json, "release_features_at", "map"), 0.5);  // the default
+  EXPECT_EQ(report_number(json, "relaxation_gain", "map"), 1e-4);     // the default
+  {
+    // A looser relaxation queue: fewer optimisations, a valid map.
+    const auto loose = f.dir / "sb_loose.json";
+    const auto l = run_tool("ism-map", quoted(f.sphere) + " " + quoted(f.blob) + " --features " +
+                                           quoted(pairs) + " -q --relaxation-gain 0.01 --report " +
+                                           quoted(loose));
+    ASSERT_EQ(l.status, 0) << l.err;
+    const std::string lj = slurp(loose);
+    EXPECT_EQ(report_number(lj, "relaxation_gain", "map"), 0.01);
+    EXPECT_LT(report_number(lj, "optimizations", "map"),
+              report_number(json, "optimizations", "map"));
+    EXPECT_GT(report_number(lj, "symmetric_efficiency", "map"), 0.8);
+  }
   // The coarse race (default 2,3): two copies, the more efficient kept.
   {
     const auto race = nlohmann::json::parse(json)["map"]["coarse_race"];
@@ -549,6 +563,7 @@ TEST(IsmMap, RefusesBadInput) {
                  "texture coordinates (vt)");
   expect_refusal(two + " --transfer-colors-b", "blob.obj: cannot carry its colours: no vertex");
   expect_refusal(two + " --race-level-sweeps 2,2000", "--race-level-sweeps");
+  expect_refusal(two + " --relaxation-gain -1", "--relaxation-gain takes a share");
   expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
   expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
   // An output over an input is refused before any work, the input intact.

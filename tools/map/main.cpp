@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
                  "energy goes on "
                  "(default 2,3)")
       ->delimiter(',');
+  app.add_option("--relaxation-gain", o.relaxation_gain,
+                 "After each level's sweeps, a vertex whose move gained more than this share of "
+                 "the mean energy per vertex has its neighbours optimised again (default 1e-4; "
+                 "larger is faster, and lands in another basin)");
   app.add_flag_callback(
       "--no-race", [&] { o.race_level_sweeps.clear(); },
       "Refine one map from the start (no coarse race)");
