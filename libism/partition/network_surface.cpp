@@ -139,10 +139,11 @@ std::size_t NetworkSurface::split_blocked_edges(const std::vector<std::array<int
       const auto f = mesh_.face_handle(mesh_.halfedge_handle(e, 0));
       if (f.is_valid() && std::size_t(f.idx()) < frozen.size() && frozen[f.idx()]) continue;
       if (class_[a] == VertexClass::centre || class_[b] == VertexClass::centre) continue;
-      if (flagged(e) || !(blocked(a) && blocked(b))) continue;  // (on the network: blocked)
+      // Off the network between two blocked vertices; on a loop, between
+      // two vertices on the network.
+      if (flagged(e) || !(blocked(a) && blocked(b))) continue;
       const bool loop = is_loop_edge(e);
-      if (loop ? on_network_[a] && on_network_[b] : blocked(a) && blocked(b))
-        to_split.push_back({e, loop});
+      if (!loop || (on_network_[a] && on_network_[b])) to_split.push_back({e, loop});
     }
     if (to_split.empty()) {
       near_network_.assign(mesh_.n_vertices(), 0);
