@@ -65,6 +65,14 @@ void write_correspondence(const std::vector<SurfacePoint>& images, const Triangl
   if (!out) throw io::FileError(path.string() + ": write failed");
 }
 
+MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options) {
+  MapSchedule schedule;
+  schedule.large = faces >= kLargeMapFaces;
+  schedule.level_sweeps = options.level_sweeps.value_or(schedule.large ? 1 : 2);
+  schedule.relaxation_gain = options.relaxation_gain.value_or(schedule.large ? 1e-3 : 1e-4);
+  return schedule;
+}
+
 MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   const std::string tool = run.tool_name();
   for (const tool::InputMesh* in : {&o.a, &o.b})
@@ -82,14 +90,14 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   if (extras && o.output_prefix.empty())
     throw tool::Failure(tool +
                         ": morphs and transferred attributes need an output prefix (-o PREFIX)");
-  if (o.level_sweeps < 0 || o.level_sweeps > 1000)
+  if (o.level_sweeps && (*o.level_sweeps < 0 || *o.level_sweeps > 1000))
     throw tool::Failure(tool + ": --level-sweeps takes 0 to 1000 (got " +
-                        std::to_string(o.level_sweeps) + ")");
+                        std::to_string(*o.level_sweeps) + ")");
   for (int k : o.race_level_sweeps)
     if (k < 0 || k > 1000)
       throw tool::Failure(tool + ": --race-level-sweeps takes counts of 0 to 1000 (got " +
                           std::to_string(k) + ")");
-  if (!(o.relaxation_gain >= 0 && o.relaxation_gain <= 1))
+  if (o.relaxation_gain && !(*o.relaxation_gain >= 0 && *o.relaxation_gain <= 1))
     throw tool::Failure(tool +
                         ": --relaxation-gain takes a share of the energy per vertex, 0 to 1");
   if (!(o.release_features_at >= 0 && o.release_features_at <= 1))
@@ -243,9 +251,10 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   InterSurfaceMap map(side_from_pm(pms[0]), side_from_pm(pms[1]), map_options);
   SurfaceRefineOptions refine;
   refine.threads = o.threads;
-  refine.max_level_sweeps = o.level_sweeps;
+  const MapSchedule schedule = map_schedule(mesh[0].n_faces() + mesh[1].n_faces(), o);
+  refine.max_level_sweeps = schedule.level_sweeps;
   refine.race_level_sweeps = o.race_level_sweeps;
-  refine.local_relaxation_gain = o.relaxation_gain;
+  refine.local_relaxation_gain = schedule.relaxation_gain;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.fine_search = {1e-3, 1};
   refine.search.model_seed = refine.fine_search.model_seed = true;
@@ -344,6 +353,8 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       {"fine_from", refine.fine_search_from},
       {"model_seed", refine.fine_search.model_seed}};
   j["relaxation_gain"] = refine.local_relaxation_gain;
+  j["level_sweeps"] = refine.max_level_sweeps;
+  j["schedule"] = schedule.large ? "large" : "default";
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();

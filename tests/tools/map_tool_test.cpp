@@ -11,6 +11,7 @@
 #include "mesh/mesh_check.hpp"
 #include "metrics/metrics.hpp"
 #include "open_surfaces.hpp"
+#include "pipeline/map_surfaces.hpp"
 #include "report/json.hpp"
 #include "shapes/shapes.hpp"
 #include "test_support.hpp"
@@ -144,6 +145,31 @@ std::vector<Vec3> read_correspondence(const fs::path& p, std::size_t sources,
   return images;
 }
 
+// The schedule's size-dependent settings: the slower one below
+// kLargeMapFaces faces together, the large one from there; a setting given
+// is kept at any size.
+TEST(IsmMap, ScheduleBySize) {
+  using ism::pipeline::kLargeMapFaces;
+  using ism::pipeline::map_schedule;
+  const ism::pipeline::MapSurfacesOptions unset;
+  const auto small = map_schedule(kLargeMapFaces - 1, unset);
+  EXPECT_FALSE(small.large);
+  EXPECT_EQ(small.level_sweeps, 2);
+  EXPECT_EQ(small.relaxation_gain, 1e-4);
+  const auto large = map_schedule(kLargeMapFaces, unset);
+  EXPECT_TRUE(large.large);
+  EXPECT_EQ(large.level_sweeps, 1);
+  EXPECT_EQ(large.relaxation_gain, 1e-3);
+  ism::pipeline::MapSurfacesOptions given;
+  given.level_sweeps = 3;
+  given.relaxation_gain = 0.0;
+  for (std::size_t faces : {std::size_t(1000), kLargeMapFaces, 10 * kLargeMapFaces}) {
+    const auto kept = map_schedule(faces, given);
+    EXPECT_EQ(kept.level_sweeps, 3);
+    EXPECT_EQ(kept.relaxation_gain, 0.0);
+  }
+}
+
 TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   const Files& f = files();
   const fs::path prefix = f.dir / "sb", report = f.dir / "sb.json", meta = f.dir / "sb.meta";
@@ -160,6 +186,8 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_EQ(report_number(json, "features_given", "partition"), 2);
   EXPECT_EQ(report_number(json, "release_features_at", "map"), 0.5);  // the default
   EXPECT_EQ(report_number(json, "relaxation_gain", "map"), 1e-4);     // the default
+  EXPECT_EQ(report_number(json, "level_sweeps", "map"), 2);           // (small inputs)
+  EXPECT_EQ(nlohmann::json::parse(json)["map"]["schedule"], "default");
   {
     // A looser relaxation queue: fewer optimisations, a valid map.
     const auto loose = f.dir / "sb_loose.json";

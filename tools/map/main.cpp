@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
                "The same from B onto A's vertices: PREFIX_A_colors.ply");
   app.add_option("--level-sweeps", o.level_sweeps,
                  "Sweeps over every vertex each time both sides have grown 1.5-fold (fewer once "
-                 "a sweep gains under 0.1 %; default 2)");
+                 "a sweep gains under 0.1 %; default 2, or 1 when both inputs together have " +
+                     std::to_string(ism::pipeline::kLargeMapFaces) + " faces or more)");
   app.add_option("--race-level-sweeps", o.race_level_sweeps,
                  "Level-sweep counts raced at the coarse levels: a copy of the map refined "
                  "with each until both sides have 500 faces (or a tenth of theirs), the lowest "
@@ -60,8 +61,10 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--relaxation-gain", o.relaxation_gain,
                  "After each level's sweeps, a vertex whose move gained more than this share of "
-                 "the mean energy per vertex has its neighbours optimised again (default 1e-4; "
-                 "larger is faster, and lands in another basin)");
+                 "the mean energy per vertex has its neighbours optimised again (default 1e-4, or "
+                 "1e-3 from " +
+                     std::to_string(ism::pipeline::kLargeMapFaces) +
+                     " faces together; larger is faster, and lands in another basin)");
   app.add_flag_callback(
       "--no-race", [&] { o.race_level_sweeps.clear(); },
       "Refine one map from the start (no coarse race)");
