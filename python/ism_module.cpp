@@ -636,7 +636,7 @@ PYBIND11_MODULE(ism, m) {
                    const py::object& meta_mesh, const std::vector<double>& morph, int morph_frames,
                    bool morph_glb, std::optional<int> level_sweeps,
                    const std::vector<int>& race_level_sweeps, std::optional<double> relaxation_gain,
-                   int threads, const py::object& report, bool quiet) {
+                   const std::string& schedule, int threads, const py::object& report, bool quiet) {
         pipeline::MapSurfacesOptions o;
         o.a = one_surface(a, "a");
         o.b = one_surface(b, "b");
@@ -657,6 +657,16 @@ PYBIND11_MODULE(ism, m) {
         o.level_sweeps = level_sweeps;
         o.race_level_sweeps = race_level_sweeps;
         o.relaxation_gain = relaxation_gain;
+        using Schedule = pipeline::MapSurfacesOptions::ScheduleKind;
+        if (schedule == "auto")
+          o.schedule = Schedule::automatic;
+        else if (schedule == "thorough")
+          o.schedule = Schedule::thorough;
+        else if (schedule == "fast")
+          o.schedule = Schedule::fast;
+        else
+          throw py::value_error("schedule must be 'auto', 'thorough' or 'fast' (got '" + schedule +
+                                "')");
         o.threads = threads;
         auto [r, rep] =
             run_pipeline("ism-map", &pipeline::map_surfaces, o, common_options(report, quiet));
@@ -671,15 +681,17 @@ PYBIND11_MODULE(ism, m) {
       "release_features_at"_a = 0.5, "output"_a = py::none(), "meta_mesh"_a = py::none(),
       "morph"_a = std::vector<double>{}, "morph_frames"_a = 0, "morph_glb"_a = false,
       "level_sweeps"_a = py::none(), "race_level_sweeps"_a = std::vector<int>{2, 3},
-      "relaxation_gain"_a = py::none(), "threads"_a = 0, "report"_a = py::none(), "quiet"_a = false,
+      "relaxation_gain"_a = py::none(), "schedule"_a = "auto", "threads"_a = 0,
+      "report"_a = py::none(), "quiet"_a = false,
       "map_surfaces(a, b, *, features=None, ...) -> MapResult(faces, on_a, on_b, a_to_b, "
       "b_to_a, report)\n\n"
       "A continuous bijective piecewise-linear map between two closed surfaces of the same\n"
       "genus, as the ism-map tool (same options, same defaults, the same map): a and b are mesh\n"
       "file paths or tuples (V, F); features a pairs file (default automatic). The features are\n"
       "released at release_features_at of the refinement (0.5; 0 from the start) unless\n"
-      "hold_features. level_sweeps and relaxation_gain left None are chosen by size (2 and\n"
-      "1e-4; 1 and 1e-3 from 80000 faces together). output (a prefix: the overlay pair and\n"
+      "hold_features. schedule 'thorough', 'fast' or 'auto' (fast from 80000 faces together);\n"
+      "level_sweeps and relaxation_gain left None are the schedule's. output (a prefix: the "
+      "overlay pair and\n"
       "correspondence files, morphs with morph / morph_frames / morph_glb), meta_mesh and\n"
       "report are written when given.");
 

@@ -66,10 +66,12 @@ void write_correspondence(const std::vector<SurfacePoint>& images, const Triangl
 }
 
 MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options) {
+  using Kind = MapSurfacesOptions::ScheduleKind;
   MapSchedule schedule;
-  schedule.large = faces >= kLargeMapFaces;
-  schedule.level_sweeps = options.level_sweeps.value_or(schedule.large ? 1 : 2);
-  schedule.relaxation_gain = options.relaxation_gain.value_or(schedule.large ? 1e-3 : 1e-4);
+  schedule.fast = options.schedule == Kind::fast ||
+                  (options.schedule == Kind::automatic && faces >= kLargeMapFaces);
+  schedule.level_sweeps = options.level_sweeps.value_or(schedule.fast ? 1 : 2);
+  schedule.relaxation_gain = options.relaxation_gain.value_or(schedule.fast ? 1e-3 : 1e-4);
   return schedule;
 }
 
@@ -354,7 +356,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       {"model_seed", refine.fine_search.model_seed}};
   j["relaxation_gain"] = refine.local_relaxation_gain;
   j["level_sweeps"] = refine.max_level_sweeps;
-  j["schedule"] = schedule.large ? "large" : "default";
+  j["schedule"] = schedule.fast ? "fast" : "thorough";
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();
   overlay["vertices"] = result.overlay.positions[0].size();

@@ -66,7 +66,7 @@ struct MapSurfacesOptions {
   bool morph_glb = false;
   /// Sweeps over every vertex of both sides each time the two have grown
   /// 1.5-fold (fewer when a sweep gains under 0.1 % of the energy):
-  /// SurfaceRefineOptions::max_level_sweeps. Unset: by size (map_schedule).
+  /// SurfaceRefineOptions::max_level_sweeps. Unset: the schedule's.
   std::optional<int> level_sweeps;
   /// Level-sweep counts raced at the coarse levels (each refines a copy of
   /// the map until both sides have 500 faces, or a tenth of their faces at
@@ -78,25 +78,31 @@ struct MapSurfacesOptions {
   /// energy per vertex queues its neighbours
   /// (SurfaceRefineOptions::local_relaxation_gain). Larger is faster and
   /// lands in another basin, better or worse by pair (docs/results-ism.md,
-  /// stop 80). Unset: by size (map_schedule).
+  /// stop 80). Unset: the schedule's.
   std::optional<double> relaxation_gain;
+  /// The refinement schedule (map_schedule): thorough, fast, or by the
+  /// inputs' size (automatic, the default).
+  enum class ScheduleKind { automatic, thorough, fast };
+  ScheduleKind schedule = ScheduleKind::automatic;
   int threads = 0;  // planning threads of the refinement (0: all)
 };
 
-/// The refinement schedule's two size-dependent settings as resolved.
+/// The refinement schedule as resolved (map_schedule).
 struct MapSchedule {
-  bool large = false;  // the size class: both inputs together have kLargeMapFaces faces or more
+  bool fast = false;  // the fast schedule (else the thorough one)
   int level_sweeps = 2;
   double relaxation_gain = 1e-4;
 };
-/// From this many faces of both inputs together, the unset settings take
-/// the large schedule: one level sweep and a relaxation gain of 1e-3
-/// instead of 2 and 1e-4 (bunny ↔ dragon, 134 K faces: 12 % faster at
-/// 0.5 % more energy; the smaller pairs keep the slower schedule, which the
-/// vase needs: docs/results-ism.md, stops 81 and 82).
+/// From this many faces of both inputs together, ScheduleKind::automatic
+/// is the fast schedule — one level sweep and a relaxation gain of 1e-3 —
+/// instead of the thorough one (2 and 1e-4): bunny ↔ dragon, 134 K faces,
+/// maps in ~87 % of the time at 0.5 % more energy; the smaller pairs keep
+/// the thorough schedule, which the vase needs (docs/results-ism.md, stops
+/// 81 and 82).
 inline constexpr std::size_t kLargeMapFaces = 80000;
-/// The schedule for inputs of `faces` faces together: each setting the
-/// options give as given, each unset one by size.
+/// The schedule for inputs of `faces` faces together: options.schedule's
+/// (automatic: by size), with the level sweeps and the relaxation gain as
+/// the options give them where they do.
 MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options);
 
 struct MapSurfacesResult {

@@ -37,6 +37,10 @@ def test_map_surfaces_is_the_tools(pair):
                 "efficiency_b_to_a", "overlay"):
         assert r.report["map"][key] == cli["map"][key], key
     assert r.report["partition"] == cli["partition"]
+    # The same schedule (small inputs: the thorough one).
+    for key in ("schedule", "level_sweeps", "relaxation_gain"):
+        assert r.report["map"][key] == cli["map"][key], key
+    assert r.report["map"]["schedule"] == "thorough"
     # The same coarse race (default 2,3), the same copy kept.
     race = r.report["map"]["coarse_race"]
     assert race["kept"] == cli["map"]["coarse_race"]["kept"]
@@ -77,3 +81,5 @@ def test_bad_arguments(pair, meshes):
         ism.map_surfaces(sphere, sphere, features=[1, 2])
     with pytest.raises(ValueError, match="genus"):
         ism.map_surfaces(sphere, meshes["torus"], quiet=True)
+    with pytest.raises(ValueError, match="schedule must be 'auto', 'thorough' or 'fast'"):
+        ism.map_surfaces(sphere, sphere, schedule="quick")

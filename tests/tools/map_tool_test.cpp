@@ -145,28 +145,39 @@ std::vector<Vec3> read_correspondence(const fs::path& p, std::size_t sources,
   return images;
 }
 
-// The schedule's size-dependent settings: the slower one below
-// kLargeMapFaces faces together, the large one from there; a setting given
-// is kept at any size.
+// The schedule: the thorough one below kLargeMapFaces faces together, the
+// fast one from there (automatic), either when named; a level-sweep count
+// or relaxation gain given is kept whatever the schedule.
 TEST(IsmMap, ScheduleBySize) {
   using ism::pipeline::kLargeMapFaces;
   using ism::pipeline::map_schedule;
-  const ism::pipeline::MapSurfacesOptions unset;
-  const auto small = map_schedule(kLargeMapFaces - 1, unset);
-  EXPECT_FALSE(small.large);
+  using Kind = ism::pipeline::MapSurfacesOptions::ScheduleKind;
+  const ism::pipeline::MapSurfacesOptions automatic;
+  const auto small = map_schedule(kLargeMapFaces - 1, automatic);
+  EXPECT_FALSE(small.fast);
   EXPECT_EQ(small.level_sweeps, 2);
   EXPECT_EQ(small.relaxation_gain, 1e-4);
-  const auto large = map_schedule(kLargeMapFaces, unset);
-  EXPECT_TRUE(large.large);
+  const auto large = map_schedule(kLargeMapFaces, automatic);
+  EXPECT_TRUE(large.fast);
   EXPECT_EQ(large.level_sweeps, 1);
   EXPECT_EQ(large.relaxation_gain, 1e-3);
+  ism::pipeline::MapSurfacesOptions named;
+  named.schedule = Kind::thorough;
+  EXPECT_FALSE(map_schedule(10 * kLargeMapFaces, named).fast);
+  EXPECT_EQ(map_schedule(10 * kLargeMapFaces, named).level_sweeps, 2);
+  named.schedule = Kind::fast;
+  EXPECT_TRUE(map_schedule(1000, named).fast);
+  EXPECT_EQ(map_schedule(1000, named).relaxation_gain, 1e-3);
   ism::pipeline::MapSurfacesOptions given;
   given.level_sweeps = 3;
   given.relaxation_gain = 0.0;
-  for (std::size_t faces : {std::size_t(1000), kLargeMapFaces, 10 * kLargeMapFaces}) {
-    const auto kept = map_schedule(faces, given);
-    EXPECT_EQ(kept.level_sweeps, 3);
-    EXPECT_EQ(kept.relaxation_gain, 0.0);
+  for (const Kind kind : {Kind::automatic, Kind::thorough, Kind::fast}) {
+    given.schedule = kind;
+    for (std::size_t faces : {std::size_t(1000), kLargeMapFaces, 10 * kLargeMapFaces}) {
+      const auto kept = map_schedule(faces, given);
+      EXPECT_EQ(kept.level_sweeps, 3);
+      EXPECT_EQ(kept.relaxation_gain, 0.0);
+    }
   }
 }
 
@@ -187,16 +198,20 @@ TEST(IsmMap, TwoGenusZeroSurfacesGiveABijectiveOverlayPair) {
   EXPECT_EQ(report_number(json, "release_features_at", "map"), 0.5);  // the default
   EXPECT_EQ(report_number(json, "relaxation_gain", "map"), 1e-4);     // the default
   EXPECT_EQ(report_number(json, "level_sweeps", "map"), 2);           // (small inputs)
-  EXPECT_EQ(nlohmann::json::parse(json)["map"]["schedule"], "default");
+  EXPECT_EQ(nlohmann::json::parse(json)["map"]["schedule"], "thorough");
   {
-    // A looser relaxation queue: fewer optimisations, a valid map.
+    // The fast schedule named on a small pair, with a looser relaxation
+    // queue than its own: fewer optimisations, a valid map.
     const auto loose = f.dir / "sb_loose.json";
-    const auto l = run_tool("ism-map", quoted(f.sphere) + " " + quoted(f.blob) + " --features " +
-                                           quoted(pairs) + " -q --relaxation-gain 0.01 --report " +
-                                           quoted(loose));
+    const auto l = run_tool(
+        "ism-map", quoted(f.sphere) + " " + quoted(f.blob) + " --features " + quoted(pairs) +
+                       " -q --schedule fast --relaxation-gain 0.01 --report " + quoted(loose));
     ASSERT_EQ(l.status, 0) << l.err;
     const std::string lj = slurp(loose);
-    EXPECT_EQ(report_number(lj, "relaxation_gain", "map"), 0.01);
+    EXPECT_EQ(report_number(lj, "relaxation_gain", "map"), 0.01);  // given: kept
+    EXPECT_EQ(report_number(lj, "level_sweeps", "map"), 1);        // the schedule's
+    const auto lmap = nlohmann::json::parse(lj)["map"];
+    EXPECT_EQ(lmap["schedule"], "fast");
     EXPECT_LT(report_number(lj, "optimizations", "map"),
               report_number(json, "optimizations", "map"));
     EXPECT_GT(report_number(lj, "symmetric_efficiency", "map"), 0.8);

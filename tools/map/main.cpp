@@ -5,6 +5,9 @@
 #include "pipeline/map_surfaces.hpp"
 #include "tool/cli.hpp"
 
+#include <map>
+#include <string>
+
 int main(int argc, char** argv) {
   CLI::App app{
       "ism-map: a bijective map between two closed surfaces of the same genus, optimised for "
@@ -49,10 +52,20 @@ int main(int argc, char** argv) {
                "vertices: PREFIX_B_colors.ply");
   app.add_flag("--transfer-colors-b", o.transfer_colors_b,
                "The same from B onto A's vertices: PREFIX_A_colors.ply");
+  using Schedule = ism::pipeline::MapSurfacesOptions::ScheduleKind;
+  app.add_option("--schedule", o.schedule,
+                 "Refinement schedule: thorough (2 level sweeps, relaxation gain 1e-4), fast (1 "
+                 "and 1e-3), or auto: fast when both inputs together have " +
+                     std::to_string(ism::pipeline::kLargeMapFaces) +
+                     " faces or more (default auto)")
+      ->transform(
+          CLI::CheckedTransformer(std::map<std::string, Schedule>{{"auto", Schedule::automatic},
+                                                                  {"thorough", Schedule::thorough},
+                                                                  {"fast", Schedule::fast}}))
+      ->option_text("auto|thorough|fast");
   app.add_option("--level-sweeps", o.level_sweeps,
                  "Sweeps over every vertex each time both sides have grown 1.5-fold (fewer once "
-                 "a sweep gains under 0.1 %; default 2, or 1 when both inputs together have " +
-                     std::to_string(ism::pipeline::kLargeMapFaces) + " faces or more)");
+                 "a sweep gains under 0.1 %; default: the schedule's, 2 or 1)");
   app.add_option("--race-level-sweeps", o.race_level_sweeps,
                  "Level-sweep counts raced at the coarse levels: a copy of the map refined "
                  "with each until both sides have 500 faces (or a tenth of theirs), the lowest "
@@ -61,10 +74,8 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--relaxation-gain", o.relaxation_gain,
                  "After each level's sweeps, a vertex whose move gained more than this share of "
-                 "the mean energy per vertex has its neighbours optimised again (default 1e-4, or "
-                 "1e-3 from " +
-                     std::to_string(ism::pipeline::kLargeMapFaces) +
-                     " faces together; larger is faster, and lands in another basin)");
+                 "the mean energy per vertex has its neighbours optimised again (default: the "
+                 "schedule's, 1e-4 or 1e-3; larger is faster, and lands in another basin)");
   app.add_flag_callback(
       "--no-race", [&] { o.race_level_sweeps.clear(); },
       "Refine one map from the start (no coarse race)");
