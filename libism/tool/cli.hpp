@@ -14,8 +14,13 @@
 namespace ism::tool {
 
 /// --version, -q/--quiet, --report FILE and --max-memory SIZE, the same in
-/// every tool.
+/// every tool; a refused command line printed in one line.
 inline void add_common_options(CLI::App& app, CommonOptions& options) {
+  // A refused command line is one line, as every other refusal (CLI11's
+  // own message adds a second, "Run with --help for more information.").
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string(e.what()) + " (see --help)\n";
+  });
   app.set_version_flag("--version", std::string(ISM_VERSION));
   app.add_flag("-q,--quiet", options.quiet, "No progress or notes on stderr");
   app.add_option("--report", options.report_path, "Write a JSON report (sizes, timings, measures)");

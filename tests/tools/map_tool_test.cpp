@@ -607,6 +607,9 @@ TEST(IsmMap, RefusesBadInput) {
   expect_refusal(two + " --transfer-colors-b", "blob.obj: cannot carry its colours: no vertex");
   expect_refusal(two + " --race-level-sweeps 2,2000", "--race-level-sweeps");
   expect_refusal(two + " --relaxation-gain -1", "--relaxation-gain takes a share");
+  // (The command line refused by its parser: one line too.)
+  expect_refusal(two + " --schedule quick", "--schedule: quick not in {auto,thorough,fast}");
+  expect_refusal(two + " --level-sweeps many", "--level-sweeps");
   expect_refusal(two + " --morph-frames 1", "--morph-frames takes 2 to 10000 frames (got 1)");
   expect_refusal(two + " --morph 0.5 --morph-frames 20000", "(got 20000)");
   // An output over an input is refused before any work, the input intact.

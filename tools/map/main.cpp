@@ -53,15 +53,17 @@ int main(int argc, char** argv) {
   app.add_flag("--transfer-colors-b", o.transfer_colors_b,
                "The same from B onto A's vertices: PREFIX_A_colors.ply");
   using Schedule = ism::pipeline::MapSurfacesOptions::ScheduleKind;
-  app.add_option("--schedule", o.schedule,
-                 "Refinement schedule: thorough (2 level sweeps, relaxation gain 1e-4), fast (1 "
-                 "and 1e-3), or auto: fast when both inputs together have " +
-                     std::to_string(ism::pipeline::kLargeMapFaces) +
-                     " faces or more (default auto)")
-      ->transform(
-          CLI::CheckedTransformer(std::map<std::string, Schedule>{{"auto", Schedule::automatic},
-                                                                  {"thorough", Schedule::thorough},
-                                                                  {"fast", Schedule::fast}}))
+  app.add_option_function<std::string>(
+         "--schedule",
+         [&o](const std::string& name) {
+           o.schedule = name == "fast"       ? Schedule::fast
+                        : name == "thorough" ? Schedule::thorough
+                                             : Schedule::automatic;
+         },
+         "Refinement schedule: thorough (2 level sweeps, relaxation gain 1e-4), fast (1 and "
+         "1e-3), or auto: fast when both inputs together have " +
+             std::to_string(ism::pipeline::kLargeMapFaces) + " faces or more (default auto)")
+      ->check(CLI::IsMember({"auto", "thorough", "fast"}))
       ->option_text("auto|thorough|fast");
   app.add_option("--level-sweeps", o.level_sweeps,
                  "Sweeps over every vertex each time both sides have grown 1.5-fold (fewer once "
