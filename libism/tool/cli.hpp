@@ -8,7 +8,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <map>
 #include <string>
 
 namespace ism::tool {
@@ -101,13 +100,17 @@ inline void add_map_options(CLI::App& app, MapSettings& settings) {
 /// takes each coarse map over at `from_vertices` (MapStage::symmetric_from_vertices).
 inline void add_core_option(CLI::App& app, MapSettings& settings,
                             std::size_t from_vertices = kSymmetricFromVertices) {
-  app.add_option("--core", settings.core,
-                 "Map core: surface-map (default: every variant refined, the best kept) or "
-                 "symmetric (the one map both sides refine, paper §5, taking each coarse map "
-                 "over at " +
-                     std::to_string(from_vertices) + " surface vertices; closed surfaces)")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, MapCore>{
-          {"surface-map", MapCore::surface_map}, {"symmetric", MapCore::symmetric}}));
+  app.add_option_function<std::string>(
+         "--core",
+         [&settings](const std::string& name) {
+           settings.core = name == "symmetric" ? MapCore::symmetric : MapCore::surface_map;
+         },
+         "Map core: surface-map (default: every variant refined, the best kept) or "
+         "symmetric (the one map both sides refine, paper §5, taking each coarse map "
+         "over at " +
+             std::to_string(from_vertices) + " surface vertices; closed surfaces)")
+      ->check(CLI::IsMember({"surface-map", "symmetric"}))
+      ->option_text("surface-map|symmetric");
 }
 
 }  // namespace ism::tool

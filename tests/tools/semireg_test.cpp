@@ -306,6 +306,13 @@ TEST(Semireg, BadOptionsAreRefused) {
                                     " --base-size 20 --base " + sphere.string() + " -q")
                 .status,
             0);
+  // A core by another name: one line naming the choices.
+  const auto core = run_tool(
+      "semireg", sphere.string() + " -o " + out.string() + " --base-size 20 --core sym -q");
+  EXPECT_NE(core.status, 0);
+  EXPECT_EQ(std::count(core.err.begin(), core.err.end(), '\n'), 1) << core.err;
+  EXPECT_NE(core.err.find("--core: sym not in {surface-map,symmetric}"), std::string::npos)
+      << core.err;
   EXPECT_FALSE(fs::exists(out));
 }
 
