@@ -657,16 +657,11 @@ PYBIND11_MODULE(ism, m) {
         o.level_sweeps = level_sweeps;
         o.race_level_sweeps = race_level_sweeps;
         o.relaxation_gain = relaxation_gain;
-        using Schedule = pipeline::MapSurfacesOptions::ScheduleKind;
-        if (schedule == "auto")
-          o.schedule = Schedule::automatic;
-        else if (schedule == "thorough")
-          o.schedule = Schedule::thorough;
-        else if (schedule == "fast")
-          o.schedule = Schedule::fast;
-        else
+        const auto kind = pipeline::schedule_kind(schedule);
+        if (!kind)
           throw py::value_error("schedule must be 'auto', 'thorough' or 'fast' (got '" + schedule +
                                 "')");
+        o.schedule = *kind;
         o.threads = threads;
         auto [r, rep] =
             run_pipeline("ism-map", &pipeline::map_surfaces, o, common_options(report, quiet));
@@ -690,10 +685,9 @@ PYBIND11_MODULE(ism, m) {
       "file paths or tuples (V, F); features a pairs file (default automatic). The features are\n"
       "released at release_features_at of the refinement (0.5; 0 from the start) unless\n"
       "hold_features. schedule 'thorough', 'fast' or 'auto' (fast from 80000 faces together);\n"
-      "level_sweeps and relaxation_gain left None are the schedule's. output (a prefix: the "
-      "overlay pair and\n"
-      "correspondence files, morphs with morph / morph_frames / morph_glb), meta_mesh and\n"
-      "report are written when given.");
+      "level_sweeps and relaxation_gain left None are the schedule's. output (a prefix: the\n"
+      "overlay pair and correspondence files, morphs with morph / morph_frames / morph_glb),\n"
+      "meta_mesh and report are written when given.");
 
   m.def(
       "read_geometry_image",

@@ -75,6 +75,14 @@ MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options) {
   return schedule;
 }
 
+std::optional<MapSurfacesOptions::ScheduleKind> schedule_kind(const std::string& name) {
+  using Kind = MapSurfacesOptions::ScheduleKind;
+  if (name == "auto") return Kind::automatic;
+  if (name == "thorough") return Kind::thorough;
+  if (name == "fast") return Kind::fast;
+  return std::nullopt;
+}
+
 MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   const std::string tool = run.tool_name();
   for (const tool::InputMesh* in : {&o.a, &o.b})

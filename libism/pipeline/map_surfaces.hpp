@@ -104,6 +104,9 @@ inline constexpr std::size_t kLargeMapFaces = 80000;
 /// (automatic: by size), with the level sweeps and the relaxation gain as
 /// the options give them where they do.
 MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options);
+/// The schedule named "auto", "thorough" or "fast" (the front ends'
+/// spelling); nullopt for any other name.
+std::optional<MapSurfacesOptions::ScheduleKind> schedule_kind(const std::string& name);
 
 struct MapSurfacesResult {
   MetaMesh meta;  // side 0 is A, side 1 is B (both refined to full resolution)

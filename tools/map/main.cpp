@@ -5,7 +5,6 @@
 #include "pipeline/map_surfaces.hpp"
 #include "tool/cli.hpp"
 
-#include <map>
 #include <string>
 
 int main(int argc, char** argv) {
@@ -52,14 +51,9 @@ int main(int argc, char** argv) {
                "vertices: PREFIX_B_colors.ply");
   app.add_flag("--transfer-colors-b", o.transfer_colors_b,
                "The same from B onto A's vertices: PREFIX_A_colors.ply");
-  using Schedule = ism::pipeline::MapSurfacesOptions::ScheduleKind;
   app.add_option_function<std::string>(
          "--schedule",
-         [&o](const std::string& name) {
-           o.schedule = name == "fast"       ? Schedule::fast
-                        : name == "thorough" ? Schedule::thorough
-                                             : Schedule::automatic;
-         },
+         [&o](const std::string& name) { o.schedule = *ism::pipeline::schedule_kind(name); },
          "Refinement schedule: thorough (2 level sweeps, relaxation gain 1e-4), fast (1 and "
          "1e-3), or auto: fast when both inputs together have " +
              std::to_string(ism::pipeline::kLargeMapFaces) + " faces or more (default auto)")
