@@ -371,20 +371,32 @@ double InterSurfaceMap::faces_energy(int s, const std::vector<int>& faces) const
   return energy;
 }
 
-double InterSurfaceMap::faces_energy_read(int s, const std::vector<int>& faces) const {
+double InterSurfaceMap::faces_energy_read(int s, const std::vector<int>& faces,
+                                          std::vector<StretchSums>* sums) const {
   const EnergyTerms terms = energy_terms();
   const auto& cache = sums_cache_[s];
+  if (sums) sums->resize(faces.size());
   double energy = 0;
-  for (int f : faces) {
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const int f = faces[i];
     if (std::size_t(f) < cache.size() && sums_valid(s, f, cache[f])) {
       energy += cache[f].sums.energy(terms);
+      if (sums) (*sums)[i] = cache[f].sums;
       continue;
     }
     StretchSums fresh;
     if (add_face_sums(meta_, index_, s, f, terms, fresh)) return HUGE_VAL;  // (a problem)
     energy += fresh.energy(terms);
+    if (sums) (*sums)[i] = fresh;
   }
   return energy;
+}
+
+void InterSurfaceMap::keep_sums(int s, const std::vector<int>& faces,
+                                const std::vector<StretchSums>& sums, std::uint64_t clock) const {
+  auto& cache = fit(sums_cache_[s], meta_.side[s].faces.size());
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    if (!sums_valid(s, faces[i], cache[faces[i]])) cache[faces[i]] = {clock, sums[i]};
 }
 
 EnergyTerms InterSurfaceMap::energy_terms() const {

@@ -207,7 +207,10 @@ class InterSurfaceMap {
   /// energy too); otherwise it optimises the vertex anew. Where no edit
   /// has touched the faces of the vertex's ring since the plan was made
   /// (the map's per-face edit stamps), the planned chart is known to be
-  /// that chart and is not built again; else it is built and compared.
+  /// that chart and is not built again, and the ring's energy and the
+  /// move's proposal made in planning are used as they are (the serial
+  /// commit then only applies and checks it); else the chart is built and
+  /// compared.
   /// Plans committed in some order therefore give exactly what
   /// optimize_vertex in that order gives, whatever the number of threads
   /// that made them. A plan is owned by its caller and reusable (its
@@ -333,10 +336,23 @@ class InterSurfaceMap {
   /// Reads only the chart and what moves do not change (connectivity,
   /// metrics, areas).
   Move search_move(const Chart& chart, Layout& layout, double give_up_above) const;
-  /// optimize_vertex's end: the move to p proposed and committed.
-  double finish_move(const Chart& chart, Layout& layout, double before, const Vec2& p, bool smooth);
-  /// faces_energy without storing what it cuts (safe beside other readers).
-  double faces_energy_read(int s, const std::vector<int>& faces) const;
+  /// The proposal of the move of the chart's vertex to p (evaluate at p
+  /// with the layout's other inner vertices as they are): its predicted
+  /// energy of the ring.
+  double propose_move(const Chart& chart, Layout& layout, const Vec2& p, Proposal& proposal) const;
+  /// optimize_vertex's end: a proposal (propose_move, `predicted` its
+  /// energy) from the ring's energy `before` committed if it gains.
+  double finish_move(int s, const std::vector<int>& faces, double before, const Proposal& proposal,
+                     double predicted, bool smooth);
+  /// faces_energy without storing what it cuts (safe beside other readers);
+  /// with `sums`, each face's sums in the order of `faces` (for
+  /// keep_sums). HUGE_VAL where a face cannot be cut.
+  double faces_energy_read(int s, const std::vector<int>& faces,
+                           std::vector<StretchSums>* sums = nullptr) const;
+  /// Stores sums of these faces of side s (faces_energy_read's) as cut on
+  /// the map at edit clock `clock`, where no edit has touched them since.
+  void keep_sums(int s, const std::vector<int>& faces, const std::vector<StretchSums>& sums,
+                 std::uint64_t clock) const;
   /// The exact development of v's ring (v inside a face of the other side,
   /// none of its vertices inside the ring's faces): chart.w from unfolding
   /// each spoke's image, chart.boundary_breaks from unfolding the ring's

@@ -176,9 +176,14 @@ struct InterSurfaceMap::VertexPlan::State {
   bool planned = false;  // plan_vertex ran (else commit_plan optimises anew)
   bool charted = false;  // the chart was built
   Chart chart;
-  double before = 0;        // the ring's energy (large charts only)
-  std::uint64_t clock = 0;  // the map's edit clock when planned
+  double before = HUGE_VAL;       // the ring's energy (HUGE_VAL: not cut)
+  std::vector<StretchSums> sums;  // of the ring's faces, in chart.faces' order
+  std::uint64_t clock = 0;        // the map's edit clock when planned
   Move move;
+  /// The move's proposal and its predicted energy, where the move gains.
+  bool proposed = false;
+  Proposal proposal;
+  double predicted = HUGE_VAL;
 };
 
 }  // namespace ism

@@ -1771,15 +1771,17 @@ bool InterSurfaceMap::Move::gains(const Chart& chart, double before) const {
   return p != chart.centre;
 }
 
-double InterSurfaceMap::finish_move(const Chart& chart, Layout& layout, double before,
-                                    const Vec2& p, bool smooth) {
-  const int s = chart.s;
+double InterSurfaceMap::propose_move(const Chart& chart, Layout& layout, const Vec2& p,
+                                     Proposal& proposal) const {
   layout.inner[0].pos = p;
   layout.inner[0].on_anchor = -1;
-  thread_local Proposal proposal;  // (its lists' storage kept; evaluate clears it)
-  const double predicted = evaluate(chart, layout, &proposal);
+  return evaluate(chart, layout, &proposal);
+}
+
+double InterSurfaceMap::finish_move(int s, const std::vector<int>& faces, double before,
+                                    const Proposal& proposal, double predicted, bool smooth) {
   if (!(predicted < (smooth ? before * (1 - 1e-12) : HUGE_VAL))) return 0.0;
-  const auto gain = apply(s, chart.faces, proposal, before, true);
+  const auto gain = apply(s, faces, proposal, before, true);
   if (!gain) {
     ++stats_.rejected;
     return 0.0;
@@ -1809,17 +1811,24 @@ void InterSurfaceMap::plan_vertex(int s, int v, VertexPlan& plan) const {
   VertexPlan::State& st = *plan.state;
   st.planned = true;
   st.charted = false;
+  st.proposed = false;
+  st.before = HUGE_VAL;
   st.clock = edit_clock_;
   if (pinned_[s][v] || !is_active(s, v)) return;
   if (!build_chart(s, v, st.chart)) return;
   st.charted = true;
   thread_local Layout layout;
   ring_layout(st.chart, layout);
-  // Only a large chart's search needs the ring's energy (the commit has it
-  // from the cache of committed faces, which planning cannot fill).
-  st.before = st.chart.large() ? faces_energy_read(s, st.chart.faces) : 0.0;
+  // The ring's energy (its sums kept for the commit: the cache of
+  // committed faces, which only the commit fills), and where the move
+  // gains its proposal, both as the commit would make them if no edit
+  // touches the ring before.
+  st.before = faces_energy_read(s, st.chart.faces, &st.sums);
   if (!(st.before < HUGE_VAL)) return;
   st.move = search_move(st.chart, layout, st.chart.large() ? st.before : HUGE_VAL);
+  if (!st.move.gains(st.chart, st.before)) return;
+  st.predicted = propose_move(st.chart, layout, st.move.p, st.proposal);
+  st.proposed = true;
 }
 
 double InterSurfaceMap::commit_plan(VertexPlan& plan) {
@@ -1830,9 +1839,11 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   // from vertex to vertex (nothing here optimises a vertex re-entrantly).
   thread_local Chart chart;
   thread_local Layout layout;
+  thread_local Proposal proposal;  // (its lists' storage kept; evaluate clears it)
   VertexPlan::State* st = plan.state.get();
   // A plan whose ring faces no edit has touched since holds its chart as
-  // it would be built now (face_edit_).
+  // it would be built now (face_edit_), and the ring's sums and the
+  // move's proposal too.
   const bool unchanged =
       st && st->planned && st->charted && untouched_since(s, st->chart.faces, st->clock);
   if (unchanged) {
@@ -1844,6 +1855,7 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
     }
     std::swap(chart, st->chart);
     ++stats_.plans_untouched;
+    if (st->before < HUGE_VAL) keep_sums(s, chart.faces, st->sums, st->clock);
   } else if (!build_chart(s, v, chart)) {
     return 0.0;
   }
@@ -1860,6 +1872,7 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   if (!(before < HUGE_VAL)) return 0.0;
   const bool held = st && st->planned && st->charted && (unchanged || st->chart == chart) &&
                     (!chart.large() || st->before == before);
+  const bool proposed = held && unchanged && st->proposed;
   if (st) {
     st->planned = false;                         // (used once)
     if (st->chart.large()) st->chart = Chart{};  // (a large chart's storage let go)
@@ -1874,7 +1887,10 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   }
   stats_.evaluations += move.evaluations;
   if (!move.gains(chart, before)) return 0.0;
-  return finish_move(chart, layout, before, move.p, move.smooth);
+  if (proposed)
+    return finish_move(s, chart.faces, before, st->proposal, st->predicted, move.smooth);
+  const double predicted = propose_move(chart, layout, move.p, proposal);
+  return finish_move(s, chart.faces, before, proposal, predicted, move.smooth);
 }
 
 int InterSurfaceMap::add_edge(int s, int u, int v) {
