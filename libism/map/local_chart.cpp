@@ -1872,6 +1872,8 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   if (!(before < HUGE_VAL)) return 0.0;
   const bool held = st && st->planned && st->charted && (unchanged || st->chart == chart) &&
                     (!chart.large() || st->before == before);
+  // (Only where untouched: a proposal also carries whole lists of the other
+  // side's edges that cross the ring, which an equal chart does not show.)
   const bool proposed = held && unchanged && st->proposed;
   if (st) {
     st->planned = false;                         // (used once)
@@ -1887,8 +1889,12 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   }
   stats_.evaluations += move.evaluations;
   if (!move.gains(chart, before)) return 0.0;
-  if (proposed)
+  if (proposed) {
+    if (check_plans_ && !(propose_move(chart, layout, move.p, proposal) == st->predicted))
+      throw std::logic_error("commit_plan: vertex " + std::to_string(v) + " of side " +
+                             std::to_string(s) + ": its planned proposal is not the one made now");
     return finish_move(s, chart.faces, before, st->proposal, st->predicted, move.smooth);
+  }
   const double predicted = propose_move(chart, layout, move.p, proposal);
   return finish_move(s, chart.faces, before, proposal, predicted, move.smooth);
 }
