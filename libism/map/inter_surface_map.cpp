@@ -248,6 +248,27 @@ void InterSurfaceMap::touch_location(int s, const MetaLocation& loc) {
   }
 }
 
+void InterSurfaceMap::touch_under(int s, const std::vector<int>& faces) {
+  const int t = 1 - s;
+  const MetaSide& S = meta_.side[s];
+  const MetaSideIndex& IS = index_[s];
+  ++edit_clock_;  // (sums cut until now are older than the touches)
+  for (const int f : faces) {
+    for (const int v : S.faces[f]) {
+      touch_location(s, S.location[v]);
+      for (const int x : IS.lodgers[v]) touch_vertex(t, x);
+    }
+    for (const int x : IS.residents[f]) touch_vertex(t, x);
+    for (const int e : S.face_edges[f])
+      for (const MetaCrossing& c : S.crossings[e])
+        if (c.is_kink())
+          touch_face(t, c.face);
+        else
+          for (const int g : index_[t].edge_faces[c.edge])
+            if (g >= 0) touch_face(t, g);
+  }
+}
+
 void InterSurfaceMap::touch_all(std::initializer_list<int> stale_sums) {
   edit_all_ = ++edit_clock_;
   for (int s : stale_sums) sums_all_[s] = edit_all_;

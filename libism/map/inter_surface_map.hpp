@@ -460,9 +460,9 @@ class InterSurfaceMap {
   /// face since (face_edit_) and no operation invalidated its whole side
   /// since (sums_all_). apply() stores the faces it changed; a split's
   /// connectivity change reaches only the faces of its side its apply()
-  /// stores, or is undone, and invalidates the other side (whose faces
-  /// under the new ring take the new metric); replace_overlay invalidates
-  /// both. With the environment variable ISM_CHECK_ENERGY_CACHE=1 at
+  /// stores, or is undone, and the other side's faces under its ring
+  /// (which take the new metric), which it touches (touch_under);
+  /// replace_overlay invalidates both sides. With the environment variable ISM_CHECK_ENERGY_CACHE=1 at
   /// construction, every cached face is cut again when used and
   /// std::logic_error thrown if it differs (tests/map and tests/refine set
   /// it).
@@ -490,6 +490,11 @@ class InterSurfaceMap {
   void touch_face(int side, int f);
   void touch_vertex(int side, int v);                      // the faces around v
   void touch_location(int side, const MetaLocation& loc);  // on the other side
+  /// Touches the faces of the other side that overlap these faces of
+  /// `side` (those holding their corners or the other side's vertices on
+  /// or inside them, and those their edges cross or bend in): the faces
+  /// whose pieces a change of these faces' connectivity or metric reaches.
+  void touch_under(int side, const std::vector<int>& faces);
   /// Touches every face of both sides; the cached energies of the sides
   /// listed go stale too.
   void touch_all(std::initializer_list<int> stale_sums);

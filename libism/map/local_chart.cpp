@@ -1930,6 +1930,10 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
   const double before = place ? faces_energy(s, chart.faces) : HUGE_VAL;
   const double limit = before < HUGE_VAL && cap < HUGE_VAL ? cap * before : HUGE_VAL;
 
+  // The other side's faces under the ring take its new metric (the new
+  // faces lie inside it): their cached sums go stale.
+  touch_under(s, chart.faces);
+
   // Connectivity: the faces from vl to vr go to vs, two new faces.
   MetaSide& S = meta_.side[s];
   MetaSideIndex& IS = index_[s];
@@ -2186,8 +2190,8 @@ int InterSurfaceMap::split_next(int s) {
     if (refused) --refused_split_attempts_;
     const int vs = refused ? -1 : try_split(s, true, uncapped ? HUGE_VAL : kSplitEnergyCap);
     // (Placed or undone, a split changes connectivity and metrics: every
-    // plan is stale, and the other side's cached energies.)
-    touch_all({1 - s});
+    // plan is stale. The cached energies it changes, it touched.)
+    touch_all({});
     if (vs >= 0) {
       stats_.splits_later_round += attempt > kSplitRetries;
       return vs;
