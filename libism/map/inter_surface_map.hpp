@@ -462,10 +462,10 @@ class InterSurfaceMap {
   /// connectivity change reaches only the faces of its side its apply()
   /// stores, or is undone, and the other side's faces under its ring
   /// (which take the new metric), which it touches (touch_under);
-  /// replace_overlay invalidates both sides. With the environment variable ISM_CHECK_ENERGY_CACHE=1 at
-  /// construction, every cached face is cut again when used and
-  /// std::logic_error thrown if it differs (tests/map and tests/refine set
-  /// it).
+  /// replace_overlay invalidates both sides. With the environment
+  /// variable ISM_CHECK_ENERGY_CACHE=1 at construction, every cached face
+  /// is cut again when used and std::logic_error thrown if it differs
+  /// (tests/map and tests/refine set it).
   struct CachedSums {
     std::uint64_t stamp = 0;
     StretchSums sums;
