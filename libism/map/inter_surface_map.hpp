@@ -350,7 +350,8 @@ class InterSurfaceMap {
   double faces_energy_read(int s, const std::vector<int>& faces,
                            std::vector<StretchSums>* sums = nullptr) const;
   /// Stores sums of these faces of side s (faces_energy_read's) as cut on
-  /// the map at edit clock `clock`, where no edit has touched them since.
+  /// the map at edit clock `clock`: they count for the faces no edit has
+  /// touched since, and stay stale for the others.
   void keep_sums(int s, const std::vector<int>& faces, const std::vector<StretchSums>& sums,
                  std::uint64_t clock) const;
   /// The exact development of v's ring (v inside a face of the other side,

@@ -1846,6 +1846,10 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   // move's proposal too.
   const bool unchanged =
       st && st->planned && st->charted && untouched_since(s, st->chart.faces, st->clock);
+  // The sums the plan cut hold for the ring's faces no edit touched since
+  // (keep_sums stamps them with the plan's clock: the others stay stale).
+  if (st && st->planned && st->charted && st->before < HUGE_VAL)
+    keep_sums(s, st->chart.faces, st->sums, st->clock);
   if (unchanged) {
     if (check_plans_) {
       if (!build_chart(s, v, chart) || !(chart == st->chart))
@@ -1855,7 +1859,6 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
     }
     std::swap(chart, st->chart);
     ++stats_.plans_untouched;
-    if (st->before < HUGE_VAL) keep_sums(s, chart.faces, st->sums, st->clock);
   } else if (!build_chart(s, v, chart)) {
     return 0.0;
   }
