@@ -232,6 +232,19 @@ void InterSurfaceMap::touch_vertex(int s, int v) {
   for (int f : index_[s].vertex_faces[v]) touch_face(s, f);
 }
 
+void InterSurfaceMap::touch_edge(int s, int e) {
+  for (int f : index_[s].edge_faces[e])
+    if (f >= 0) touch_face(s, f);
+}
+
+void InterSurfaceMap::touch_crossings(int s, const std::vector<MetaCrossing>& list) {
+  for (const MetaCrossing& c : list)
+    if (c.is_kink())
+      touch_face(1 - s, c.face);
+    else
+      touch_edge(1 - s, c.edge);
+}
+
 void InterSurfaceMap::touch_location(int s, const MetaLocation& loc) {
   // A point of side s's map on side t: its face, and the face across an
   // edge it lies on (a point on an edge belongs to both); or the faces
@@ -241,8 +254,7 @@ void InterSurfaceMap::touch_location(int s, const MetaLocation& loc) {
     touch_face(t, loc.face);
     for (int k = 0; k < 3; ++k)
       if (!(loc.bary[(k + 2) % 3] > 0))  // on edge k (from corner k to k + 1)
-        for (int g : index_[t].edge_faces[meta_.side[t].face_edges[loc.face][k]])
-          if (g >= 0) touch_face(t, g);
+        touch_edge(t, meta_.side[t].face_edges[loc.face][k]);
   } else if (loc.vertex >= 0) {
     touch_vertex(t, loc.vertex);
   }
@@ -259,13 +271,7 @@ void InterSurfaceMap::touch_under(int s, const std::vector<int>& faces) {
       for (const int x : IS.lodgers[v]) touch_vertex(t, x);
     }
     for (const int x : IS.residents[f]) touch_vertex(t, x);
-    for (const int e : S.face_edges[f])
-      for (const MetaCrossing& c : S.crossings[e])
-        if (c.is_kink())
-          touch_face(t, c.face);
-        else
-          for (const int g : index_[t].edge_faces[c.edge])
-            if (g >= 0) touch_face(t, g);
+    for (const int e : S.face_edges[f]) touch_crossings(s, S.crossings[e]);
   }
 }
 
@@ -310,15 +316,9 @@ void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* 
 void InterSurfaceMap::set_breaks(int s, int e, std::vector<MetaCrossing> list, Edit* edit) {
   auto& current = meta_.side[s].crossings[e];
   ++edit_clock_;
-  for (int f : index_[s].edge_faces[e])
-    if (f >= 0) touch_face(s, f);
-  for (const auto* l : {&current, &list})
-    for (const MetaCrossing& c : *l)
-      if (c.is_kink())
-        touch_face(1 - s, c.face);
-      else
-        for (int g : index_[1 - s].edge_faces[c.edge])
-          if (g >= 0) touch_face(1 - s, g);
+  touch_edge(s, e);
+  touch_crossings(s, current);
+  touch_crossings(s, list);
   if (edit) edit->lists.push_back({s, e, std::move(current)});
   current = std::move(list);
 }

@@ -491,6 +491,10 @@ class InterSurfaceMap {
   void touch_face(int side, int f);
   void touch_vertex(int side, int v);                      // the faces around v
   void touch_location(int side, const MetaLocation& loc);  // on the other side
+  void touch_edge(int side, int e);                        // the faces beside e
+  /// The other side's faces where the records of a break list of `side`
+  /// lie (a crossed edge's faces, a kink's face).
+  void touch_crossings(int side, const std::vector<MetaCrossing>& list);
   /// Touches the faces of the other side that overlap these faces of
   /// `side` (those holding their corners or the other side's vertices on
   /// or inside them, and those their edges cross or bend in): the faces
