@@ -9,6 +9,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <Eigen/LU>
 #include <Eigen/SparseLU>
 
@@ -841,6 +842,11 @@ struct EvaluateBuffers {
   std::vector<SummedPart> summed_parts;
   std::vector<Eigen::Matrix2d> to_s;
   std::vector<std::uint64_t> node_tris;
+  // Each node's corner in a cell, on s and on t, memoised: the face (chart
+  // triangle on s, face of t) it was last placed in, and where.
+  std::vector<int> s_corner_tri, t_corner_face;
+  std::vector<Vec2> s_corner;
+  std::vector<std::optional<Vec2>> t_corner;
   MetaPiece piece;
   PlanarCells cells;
 };
@@ -1212,27 +1218,43 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
   auto &common = buffers.common, &faces = buffers.faces;
   MetaPiece& piece = buffers.piece;
   PlanarCells& cells = buffers.cells;
+  // A node's corner on s in chart triangle ti, and on t in face h (laid
+  // out as L, made when first needed): each a function of the node and the
+  // face alone, so a node shared by cells is placed once per face (the same
+  // values as placed anew).
+  auto &s_corner_tri = buffers.s_corner_tri, &t_corner_face = buffers.t_corner_face;
+  auto& s_corner = buffers.s_corner;
+  auto& t_corner = buffers.t_corner;
+  s_corner_tri.assign(pos.size(), -1);
+  t_corner_face.assign(pos.size(), -1);
+  s_corner.resize(pos.size());
+  t_corner.resize(pos.size());
+  auto corner_on_s = [&](int c, int ti) -> const Vec2& {
+    if (s_corner_tri[c] == ti) return s_corner[c];
+    s_corner_tri[c] = ti;
+    const auto& tl = layout.tris[ti].shape;
+    // Anchors on the ring's edges: exactly where their records put them.
+    if (c < int(A) && chart.anchors[c].node.place[s].kind == Place::edge)
+      if (const auto exact =
+              place_in_face(meta_, s, layout.tris[ti].face, tl, chart.anchors[c].node.place[s]))
+        return s_corner[c] = *exact;
+    const auto& tc = tri_chart[ti];
+    return s_corner[c] = from_barycentric(barycentric(pos[c], tc[0], tc[1], tc[2]), tl);
+  };
+  auto corner_on_t = [&](int c, int h,
+                         std::optional<std::array<Vec2, 3>>& L) -> const std::optional<Vec2>& {
+    if (t_corner_face[c] == h) return t_corner[c];
+    t_corner_face[c] = h;
+    if (!L) L = meta_face_layout(meta_.side[t].lengths[h]);
+    return t_corner[c] = place_in_face(meta_, t, h, *L, place[c]);
+  };
   auto cell_energy = [&](std::span<const int> cell, const Vec2& inside, int known_face,
                          const std::vector<Vec2>* known_corners) {
     const std::size_t n = cell.size();
     const int ti = tri_of_cell(cell, inside);
     if (ti < 0) return eval_fail(171);
     piece.corner[s].clear();
-    const auto& tc = tri_chart[ti];
-    const auto& tl = layout.tris[ti].shape;
-    for (int c : cell) {
-      // Anchors on the ring's edges: exactly where their records put them.
-      if (c < int(A) && chart.anchors[c].node.place[s].kind == Place::edge) {
-        const auto exact =
-            place_in_face(meta_, s, layout.tris[ti].face, tl, chart.anchors[c].node.place[s]);
-        if (exact) {
-          piece.corner[s].push_back(*exact);
-          continue;
-        }
-      }
-      const Eigen::Vector3d b = barycentric(pos[c], tc[0], tc[1], tc[2]);
-      piece.corner[s].push_back(from_barycentric(b, tl));
-    }
+    for (int c : cell) piece.corner[s].push_back(corner_on_s(c, ti));
     piece.face[s] = layout.tris[ti].face;
     piece.area[s] = polygon_area(piece.corner[s]);
     if (!(piece.area[s] > 0)) return eval_fail(181);
@@ -1252,9 +1274,9 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
       for (int h : common) {
         std::vector<Vec2>& other = piece.corner[t];
         other.clear();
-        const std::array<Vec2, 3> Lh = meta_face_layout(meta_.side[t].lengths[h]);
+        std::optional<std::array<Vec2, 3>> Lh;
         for (int c : cell) {
-          const auto p = place_in_face(meta_, t, h, Lh, place[c]);
+          const auto& p = corner_on_t(c, h, Lh);
           if (!p) break;
           other.push_back(*p);
         }
@@ -2069,15 +2091,30 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     if (!ranked.empty()) {
-      // Line searches from the best candidate, inside vs's kernel.
+      // Line searches from the best candidate, inside vs's kernel (the
+      // central differences' points in two halves in parallel, the second
+      // with its own layout).
       Vec2 p = ranked[0].second;
+      Layout other;
       const double e = minimize_in_kernel(
           polygon, p,
           [&](const Vec2& q) {
             layout.inner[0].pos = q;
             return evaluate(chart, layout, nullptr);
           },
-          LineSearch::parabolic);
+          LineSearch::parabolic, HUGE_VAL, KernelSearch{},
+          [&](std::span<const Vec2> at, std::span<double> out) {
+            const std::size_t half = at.size() / 2;
+            other = layout;
+            auto run = [&](Layout& l, std::size_t from, std::size_t to) {
+              for (std::size_t k = from; k < to; ++k) {
+                l.inner[0].pos = at[k];
+                out[k] = evaluate(chart, l, nullptr);
+              }
+            };
+            tbb::parallel_invoke([&] { run(layout, 0, half); },
+                                 [&] { run(other, half, at.size()); });
+          });
       if (e < ranked[0].first) ranked.insert(ranked.begin(), {e, p});
     }
     // The transaction's check may refuse a place the chart accepts (the

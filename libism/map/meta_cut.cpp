@@ -600,8 +600,18 @@ bool planar_cells(const std::vector<Vec2>& position,
     return lower ? -2 - y / t : 2 - y / t;
   };
   // Work arrays kept per thread (charts call this thousands of times).
-  thread_local std::vector<int> first, fill, cell;
-  thread_local std::vector<std::pair<double, int>> around;
+  thread_local std::vector<int> first, fill, cell, twin;
+  // (Each directed segment: its direction's pseudo-angle, its far end, and
+  // its slot as made: 2k and 2k + 1 for segment k's two ways.)
+  struct Way {
+    double angle;
+    int to, slot;
+    // (As std::pair orders (angle, to).)
+    bool operator<(const Way& o) const {
+      return angle < o.angle || (!(o.angle < angle) && to < o.to);
+    }
+  };
+  thread_local std::vector<Way> around;
   thread_local std::vector<char> done;
   // All neighbour lists in one array: node u's at [first[u], first[u + 1]).
   first.assign(n + 1, 0);
@@ -613,10 +623,11 @@ bool planar_cells(const std::vector<Vec2>& position,
   around.resize(2 * segments.size());
   {
     fill.assign(first.begin(), first.end() - 1);
+    int slot = 0;
     for (const auto& [u, v] : segments) {
       const Vec2 d = position[v] - position[u];
-      around[fill[u]++] = {pseudo_angle(d), v};
-      around[fill[v]++] = {pseudo_angle(-d), u};
+      around[fill[u]++] = {pseudo_angle(d), v, slot++};
+      around[fill[v]++] = {pseudo_angle(-d), u, slot++};
     }
   }
   for (std::size_t u = 0; u < n; ++u) {
@@ -630,10 +641,14 @@ bool planar_cells(const std::vector<Vec2>& position,
         for (int k = i; k > b && around[k] < around[k - 1]; --k)
           std::swap(around[k], around[k - 1]);
     for (int i = b + 1; i < e; ++i)
-      if (around[i].second == around[i - 1].second)
-        return fail("two segments join the same meta-vertices");
+      if (around[i].to == around[i - 1].to) return fail("two segments join the same meta-vertices");
     if (e - b < 2) return fail("a meta-vertex on fewer than two segments");
   }
+  // Where each slot went, then each way's way back (u -> v: v -> u).
+  fill.resize(around.size());
+  for (std::size_t j = 0; j < around.size(); ++j) fill[around[j].slot] = int(j);
+  twin.resize(around.size());
+  for (std::size_t j = 0; j < around.size(); ++j) twin[j] = fill[around[j].slot ^ 1];
   // Each directed segment bounds the cell on its left; the next one turns
   // as far right as possible (the first neighbour clockwise of the way back).
   done.assign(around.size(), 0);
@@ -646,9 +661,7 @@ bool planar_cells(const std::vector<Vec2>& position,
       while (!done[j]) {
         done[j] = 1;
         cell.push_back(u);
-        const int v = around[j].second;
-        int back = first[v];
-        while (around[back].second != u) ++back;
+        const int v = around[j].to, back = twin[j];
         j = back == first[v] ? first[v + 1] - 1 : back - 1;
         u = v;
         if (cell.size() > 2 * n) return fail("its arrangement is not planar");

@@ -4,6 +4,7 @@
 #include "mesh/curvature.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -657,9 +658,10 @@ std::pair<double, double> parabolic_search(const std::function<double(double)>& 
 
 }  // namespace
 
-double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
-                          const std::function<double(const Vec2&)>& energy, LineSearch rule,
-                          double give_up_above, KernelSearch settings) {
+double minimize_in_kernel(
+    const std::vector<Vec2>& ring, Vec2& p, const std::function<double(const Vec2&)>& energy,
+    LineSearch rule, double give_up_above, KernelSearch settings,
+    const std::function<void(std::span<const Vec2> at, std::span<double> out)>& energies) {
   const double e0 = energy(p);
   if (!(e0 < HUGE_VAL)) return HUGE_VAL;
   double scale = 0.0;
@@ -723,8 +725,13 @@ double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
     for (const auto& [h, turn] : {std::pair{1e-5, 0.0}, {1e-5, 0.4}, {1e-3, 0.4}, {1e-2, 0.4}}) {
       u = Vec2(std::cos(turn), std::sin(turn)), w = Vec2(-u.y(), u.x());
       step = h * scale;
-      eu[0] = energy(p + step * u), eu[1] = energy(p - step * u);
-      ew[0] = energy(p + step * w), ew[1] = energy(p - step * w);
+      const std::array<Vec2, 4> at{p + step * u, p - step * u, p + step * w, p - step * w};
+      std::array<double, 4> e4;
+      if (energies)
+        energies(at, e4);
+      else
+        for (std::size_t k = 0; k < 4; ++k) e4[k] = energy(at[k]);
+      eu[0] = e4[0], eu[1] = e4[1], ew[0] = e4[2], ew[1] = e4[3];
       const double du = eu[0] - eu[1], dw = ew[0] - ew[1];
       grad = du * u + dw * w;
       g_uw = Vec2(du, dw) / (2 * step);

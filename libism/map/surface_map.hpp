@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -131,10 +132,13 @@ struct KernelSearch {
 /// A round whose best is not below `give_up_above` is the last (for callers
 /// that keep a result only below a bound), and so is one that did not move
 /// p (`energy` must be a function of p alone: the next would repeat it).
-double minimize_in_kernel(const std::vector<Vec2>& ring, Vec2& p,
-                          const std::function<double(const Vec2&)>& energy,
-                          LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL,
-                          KernelSearch search = {});
+/// `energies`, when given, evaluates several points at once (out[k] the
+/// energy at at[k], exactly as `energy` gives it; e.g. concurrently): the
+/// central differences go through it.
+double minimize_in_kernel(
+    const std::vector<Vec2>& ring, Vec2& p, const std::function<double(const Vec2&)>& energy,
+    LineSearch rule = LineSearch::golden, double give_up_above = HUGE_VAL, KernelSearch search = {},
+    const std::function<void(std::span<const Vec2> at, std::span<double> out)>& energies = {});
 
 /// Minimises a smooth energy over p inside the kernel of the polygon `ring`
 /// by Newton steps (the Hessian shifted to be positive definite where it is
