@@ -33,6 +33,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -394,6 +395,12 @@ class InterSurfaceMap {
   /// pieces are not cut here: apply()'s check is what finds an invalid
   /// proposal there.
   double evaluate(const Chart& chart, const Layout& layout, Proposal* out) const;
+  /// evaluate() with `layout`'s inner vertex 0 at each point of `at`, into
+  /// `out` (the same size): in parallel in the caller's arena, `grain`
+  /// points per task, each task on its own copy of `layout`. The values do
+  /// not depend on the number of threads.
+  void evaluate_each(const Chart& chart, const Layout& layout, std::span<const Vec2> at,
+                     std::span<double> out, std::size_t grain) const;
   /// Checks the changed faces of side s after an edit (see the file
   /// comment); their energy when asked. The faces are cut on the caller's
   /// arena's threads; the first problem in the faces' order is returned.

@@ -9,7 +9,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <Eigen/LU>
 #include <Eigen/SparseLU>
 
@@ -852,6 +851,19 @@ struct EvaluateBuffers {
 };
 
 }  // namespace
+
+void InterSurfaceMap::evaluate_each(const Chart& chart, const Layout& layout,
+                                    std::span<const Vec2> at, std::span<double> out,
+                                    std::size_t grain) const {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, at.size(), std::max<std::size_t>(grain, 1)),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      Layout local = layout;
+                      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+                        local.inner[0].pos = at[k];
+                        out[k] = evaluate(chart, local, nullptr);
+                      }
+                    });
+}
 
 double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Proposal* out) const {
   const int s = chart.s, t = chart.t;
@@ -2075,16 +2087,9 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     // Evaluated in parallel in the caller's arena (each task with its own
     // layout; evaluate is const), ranked in the candidates' order: the
     // same result for any number of threads.
-    std::vector<double> energies(candidates.size(), HUGE_VAL);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        Layout local = layout;
-                        for (std::size_t k = range.begin(); k < range.end(); ++k) {
-                          if (!inside_polygon(polygon, candidates[k])) continue;
-                          local.inner[0].pos = candidates[k];
-                          energies[k] = evaluate(chart, local, nullptr);
-                        }
-                      });
+    std::erase_if(candidates, [&](const Vec2& c) { return !inside_polygon(polygon, c); });
+    std::vector<double> energies(candidates.size());
+    evaluate_each(chart, layout, candidates, energies, 4);
     std::vector<std::pair<double, Vec2>> ranked;  // valid candidates below the limit
     for (std::size_t k = 0; k < candidates.size(); ++k)
       if (energies[k] < limit) ranked.push_back({energies[k], candidates[k]});
@@ -2092,10 +2097,8 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     if (!ranked.empty()) {
       // Line searches from the best candidate, inside vs's kernel (the
-      // central differences' points in two halves in parallel, the second
-      // with its own layout).
+      // central differences' points in two halves in parallel).
       Vec2 p = ranked[0].second;
-      Layout other;
       const double e = minimize_in_kernel(
           polygon, p,
           [&](const Vec2& q) {
@@ -2104,16 +2107,7 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
           },
           LineSearch::parabolic, HUGE_VAL, KernelSearch{},
           [&](std::span<const Vec2> at, std::span<double> out) {
-            const std::size_t half = at.size() / 2;
-            other = layout;
-            auto run = [&](Layout& l, std::size_t from, std::size_t to) {
-              for (std::size_t k = from; k < to; ++k) {
-                l.inner[0].pos = at[k];
-                out[k] = evaluate(chart, l, nullptr);
-              }
-            };
-            tbb::parallel_invoke([&] { run(layout, 0, half); },
-                                 [&] { run(other, half, at.size()); });
+            evaluate_each(chart, layout, at, out, (at.size() + 1) / 2);
           });
       if (e < ranked[0].first) ranked.insert(ranked.begin(), {e, p});
     }

@@ -600,7 +600,7 @@ bool planar_cells(const std::vector<Vec2>& position,
     return lower ? -2 - y / t : 2 - y / t;
   };
   // Work arrays kept per thread (charts call this thousands of times).
-  thread_local std::vector<int> first, fill, cell, twin;
+  thread_local std::vector<int> first, fill, cell, twin, place;
   // (Each directed segment: its direction's pseudo-angle, its far end, and
   // its slot as made: 2k and 2k + 1 for segment k's two ways.)
   struct Way {
@@ -645,10 +645,10 @@ bool planar_cells(const std::vector<Vec2>& position,
     if (e - b < 2) return fail("a meta-vertex on fewer than two segments");
   }
   // Where each slot went, then each way's way back (u -> v: v -> u).
-  fill.resize(around.size());
-  for (std::size_t j = 0; j < around.size(); ++j) fill[around[j].slot] = int(j);
+  place.resize(around.size());
+  for (std::size_t j = 0; j < around.size(); ++j) place[around[j].slot] = int(j);
   twin.resize(around.size());
-  for (std::size_t j = 0; j < around.size(); ++j) twin[j] = fill[around[j].slot ^ 1];
+  for (std::size_t j = 0; j < around.size(); ++j) twin[j] = place[around[j].slot ^ 1];
   // Each directed segment bounds the cell on its left; the next one turns
   // as far right as possible (the first neighbour clockwise of the way back).
   done.assign(around.size(), 0);
