@@ -659,8 +659,8 @@ PYBIND11_MODULE(ism, m) {
         o.relaxation_gain = relaxation_gain;
         const auto kind = pipeline::schedule_kind(schedule);
         if (!kind)
-          throw py::value_error("schedule must be 'auto', 'thorough' or 'fast' (got '" + schedule +
-                                "')");
+          throw py::value_error("schedule must be one of " + pipeline::schedule_names(", ") +
+                                " (got '" + schedule + "')");
         o.schedule = *kind;
         o.threads = threads;
         auto [r, rep] =

@@ -75,11 +75,15 @@ MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options) {
   return schedule;
 }
 
+std::string schedule_names(const std::string& separator) {
+  std::string out;
+  for (const std::string& name : kScheduleNames) out += (out.empty() ? "" : separator) + name;
+  return out;
+}
+
 std::optional<MapSurfacesOptions::ScheduleKind> schedule_kind(const std::string& name) {
-  using Kind = MapSurfacesOptions::ScheduleKind;
-  if (name == "auto") return Kind::automatic;
-  if (name == "thorough") return Kind::thorough;
-  if (name == "fast") return Kind::fast;
+  for (std::size_t k = 0; k < kScheduleNames.size(); ++k)
+    if (name == kScheduleNames[k]) return MapSurfacesOptions::ScheduleKind(k);
   return std::nullopt;
 }
 

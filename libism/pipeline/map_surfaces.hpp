@@ -82,7 +82,7 @@ struct MapSurfacesOptions {
   std::optional<double> relaxation_gain;
   /// The refinement schedule (map_schedule): thorough, fast, or by the
   /// inputs' size (automatic, the default).
-  enum class ScheduleKind { automatic, thorough, fast };
+  enum class ScheduleKind { automatic, thorough, fast };  // (kScheduleNames in this order)
   ScheduleKind schedule = ScheduleKind::automatic;
   int threads = 0;  // planning threads of the refinement (0: all)
 };
@@ -104,8 +104,12 @@ inline constexpr std::size_t kLargeMapFaces = 80000;
 /// (automatic: by size), with the level sweeps and the relaxation gain as
 /// the options give them where they do.
 MapSchedule map_schedule(std::size_t faces, const MapSurfacesOptions& options);
-/// The schedule named "auto", "thorough" or "fast" (the front ends'
-/// spelling); nullopt for any other name.
+/// The schedules' names as the front ends spell them, in ScheduleKind's
+/// order.
+inline const std::vector<std::string> kScheduleNames{"auto", "thorough", "fast"};
+/// kScheduleNames joined by `separator` (for help texts and messages).
+std::string schedule_names(const std::string& separator);
+/// The schedule named by one of kScheduleNames; nullopt for any other name.
 std::optional<MapSurfacesOptions::ScheduleKind> schedule_kind(const std::string& name);
 
 struct MapSurfacesResult {

@@ -81,5 +81,5 @@ def test_bad_arguments(pair, meshes):
         ism.map_surfaces(sphere, sphere, features=[1, 2])
     with pytest.raises(ValueError, match="genus"):
         ism.map_surfaces(sphere, meshes["torus"], quiet=True)
-    with pytest.raises(ValueError, match="schedule must be 'auto', 'thorough' or 'fast'"):
+    with pytest.raises(ValueError, match="schedule must be one of auto, thorough, fast"):
         ism.map_surfaces(sphere, sphere, schedule="quick")

@@ -57,8 +57,8 @@ int main(int argc, char** argv) {
          "Refinement schedule: thorough (2 level sweeps, relaxation gain 1e-4), fast (1 and "
          "1e-3), or auto: fast when both inputs together have " +
              std::to_string(ism::pipeline::kLargeMapFaces) + " faces or more (default auto)")
-      ->check(CLI::IsMember({"auto", "thorough", "fast"}))
-      ->option_text("auto|thorough|fast");
+      ->check(CLI::IsMember(ism::pipeline::kScheduleNames))
+      ->option_text(ism::pipeline::schedule_names("|"));
   app.add_option("--level-sweeps", o.level_sweeps,
                  "Sweeps over every vertex each time both sides have grown 1.5-fold (fewer once "
                  "a sweep gains under 0.1 %; default: the schedule's, 2 or 1)");
