@@ -267,6 +267,9 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.threads = o.threads;
   const MapSchedule schedule = map_schedule(mesh[0].n_faces() + mesh[1].n_faces(), o);
   refine.max_level_sweeps = schedule.level_sweeps;
+  // (A level less than half a growth step from full resolution, in the
+  // geometric sense, is left to the final sweeps.)
+  refine.final_level_merge = std::sqrt(refine.sweep_growth);
   refine.race_level_sweeps = o.race_level_sweeps;
   refine.local_relaxation_gain = schedule.relaxation_gain;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
@@ -368,6 +371,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
       {"model_seed", refine.fine_search.model_seed}};
   j["relaxation_gain"] = refine.local_relaxation_gain;
   j["level_sweeps"] = refine.max_level_sweeps;
+  j["final_level_merge"] = refine.final_level_merge;
   j["schedule"] = schedule.fast ? "fast" : "thorough";
   const MetaMeshSize size = meta_mesh_size(result.meta, *pieces);
   Json overlay = Json::object();

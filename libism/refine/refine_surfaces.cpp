@@ -497,6 +497,9 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                : 1.0;
   };
   std::size_t last_sweep = map.n_vertices(0) + map.n_vertices(1);
+  // (A split adds one vertex.)
+  const std::size_t full_vertices =
+      last_sweep + total_splits - map.splits_applied(0) - map.splits_applied(1);
   int side = fraction(0) <= fraction(1) ? 0 : 1;
   std::size_t in_block = 0;
   Planner planner(map, options);
@@ -563,7 +566,8 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       for (int v : map.neighbours(side, vs)) rings[side].push_back(v);
       rings[side].push_back(vs);
       const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
-      level = double(total) >= options.sweep_growth * double(last_sweep);
+      level = double(total) >= options.sweep_growth * double(last_sweep) &&
+              double(total) * options.final_level_merge < double(full_vertices);
       if (options.progress && total_splits) options.progress(applied() / double(total_splits));
     }
     for (int s = 0; s < 2; ++s)

@@ -7,7 +7,8 @@
 // vertices inside their rings (after a hard split, the relaxation queue
 // from them);
 // whenever the vertices of both sides together have grown by
-// `sweep_growth`, every vertex of both sides is; final sweeps at full
+// `sweep_growth`, every vertex of both sides is (unless that level lies
+// within `final_level_merge` of full resolution); final sweeps at full
 // resolution until the relative gain is small.
 #include "map/inter_surface_map.hpp"
 #include "refine/refine.hpp"
@@ -30,6 +31,11 @@ struct SurfaceStep {
 struct SurfaceRefineOptions {
   double sweep_growth = 1.5;
   int max_level_sweeps = 2;
+  /// A level that would fall within this factor of full resolution (the
+  /// vertices of both sides times it at least those of both at the end)
+  /// runs no sweeps and no relaxation of its own: the final sweeps, soon
+  /// after, do that work (1: every level runs).
+  double final_level_merge = 1;
   int max_final_sweeps = 4;
   double final_relative_gain = 1e-3;
   /// Splits of one side in a row before the other side's turn (the paper

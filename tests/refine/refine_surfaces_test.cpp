@@ -169,6 +169,50 @@ TEST(RefineSurfaces, AfterLevelSeesEachLevelAndMayStopTheRefinement) {
   EXPECT_FALSE(stopped.validate());
 }
 
+// A level within final_level_merge of full resolution is left to the final
+// sweeps: the levels before it are the same (the same sizes, the same map
+// there), none follows, and the map still reaches full resolution, valid.
+TEST(RefineSurfaces, ALevelCloseToFullResolutionIsLeftToTheFinalSweeps) {
+  ResumedBlob blob = resumed_blob();
+  auto resume = [&] {
+    return InterSurfaceMap(MetaMesh(*blob.meta), side_from_domain(blob.domain, blob.pm),
+                           side_from_pm(blob.pm), blob.applied);
+  };
+  auto levels = [&](InterSurfaceMap& map, double merge, SurfaceRefineStats& stats) {
+    std::vector<std::pair<std::size_t, double>> seen;
+    SurfaceRefineOptions options;
+    options.final_level_merge = merge;
+    options.after_level = [&](const InterSurfaceMap& m) {
+      seen.push_back({m.n_vertices(0) + m.n_vertices(1), m.energy()});
+      return true;
+    };
+    stats = refine_surfaces(map, options);
+    return seen;
+  };
+  InterSurfaceMap every = resume();
+  SurfaceRefineStats every_stats;
+  const auto all = levels(every, 1, every_stats);
+  ASSERT_GE(all.size(), 2u);
+  const double full = double(every.n_vertices(0) + every.n_vertices(1));
+  // Just enough to merge the last level, not the one before.
+  const double merge = full / double(all.back().first) * (1 + 1e-9);
+  ASSERT_LT(double(all[all.size() - 2].first) * merge, full);
+
+  InterSurfaceMap merged = resume();
+  SurfaceRefineStats merged_stats;
+  const auto kept = levels(merged, merge, merged_stats);
+  ASSERT_EQ(kept.size(), all.size() - 1);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    EXPECT_EQ(kept[k].first, all[k].first);
+    EXPECT_EQ(kept[k].second, all[k].second);
+  }
+  EXPECT_LT(merged_stats.sweeps, every_stats.sweeps);
+  EXPECT_GT(merged_stats.final_sweeps, 0u);
+  EXPECT_EQ(merged.n_vertices(0) + merged.n_vertices(1), every.n_vertices(0) + every.n_vertices(1));
+  EXPECT_EQ(merged.n_faces(1), replay(blob.pm).n_faces());
+  EXPECT_FALSE(merged.validate());
+}
+
 // The coarse race (race_level_sweeps): each schedule's energy is that of a
 // copy refined with it to the first level with race_faces faces on both
 // sides, the lowest goes on, and a race of the one default schedule gives
