@@ -567,7 +567,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       rings[side].push_back(vs);
       const std::size_t total = map.n_vertices(0) + map.n_vertices(1);
       level = double(total) >= options.sweep_growth * double(last_sweep) &&
-              double(total) * options.final_level_merge < double(full_vertices);
+              double(total) * options.final_level_merge <= double(full_vertices);
       if (options.progress && total_splits) options.progress(applied() / double(total_splits));
     }
     for (int s = 0; s < 2; ++s)

@@ -32,9 +32,9 @@ struct SurfaceRefineOptions {
   double sweep_growth = 1.5;
   int max_level_sweeps = 2;
   /// A level that would fall within this factor of full resolution (the
-  /// vertices of both sides times it at least those of both at the end)
+  /// vertices of both sides times it more than those of both at the end)
   /// runs no sweeps and no relaxation of its own: the final sweeps, soon
-  /// after, do that work (1: every level runs).
+  /// after, do that work (1: every level runs, one at full resolution too).
   double final_level_merge = 1;
   int max_final_sweeps = 4;
   double final_relative_gain = 1e-3;
