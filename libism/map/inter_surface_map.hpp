@@ -131,6 +131,21 @@ struct MapOperationStats {
   /// Evaluations of a chart's energy by the line searches of the
   /// optimisations committed (a plan's counted where it held).
   std::size_t evaluations = 0;
+  /// Evaluations of a chart's energy by the splits' placements (candidates
+  /// and line searches, undone attempts too).
+  std::size_t split_evaluations = 0;
+};
+
+/// How split_next places a split's new vertex. Candidates: the middle of the
+/// kernel of its new ring and the middles of the faces it takes over, each
+/// also drawn towards the old vertex by halving (1/2, 1/4, ..., 1/256); the
+/// first `first_halvings` of those halvings are evaluated with them, the
+/// rest only when none of these is valid below the energy cap. Line
+/// searches (`search`) then start from the best.
+struct SplitPlacement {
+  int first_halvings = 8;  // 0..8
+  KernelSearch search;
+  bool operator==(const SplitPlacement&) const = default;
 };
 
 class InterSurfaceMap {
@@ -263,6 +278,9 @@ class InterSurfaceMap {
   /// (minimize_in_kernel's rounds and tolerance; KernelSearch{} unless set).
   void set_search(KernelSearch search) { search_ = search; }
   KernelSearch search() const { return search_; }
+  /// How split_next places a new vertex (SplitPlacement{} unless set).
+  void set_split_placement(SplitPlacement placement) { split_placement_ = placement; }
+  SplitPlacement split_placement() const { return split_placement_; }
 
   /// The one-ring of v, counter-clockwise.
   std::vector<int> neighbours(int side, int v) const;
@@ -463,6 +481,7 @@ class InterSurfaceMap {
   std::array<double, 2> area_{0, 0};
   mutable MapOperationStats stats_;
   KernelSearch search_;
+  SplitPlacement split_placement_;
   /// The stretch sums of faces as the map was last committed, each with
   /// the edit clock when it was cut: valid while no edit has touched its
   /// face since (face_edit_) and no operation invalidated its whole side

@@ -2081,18 +2081,26 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
     for (std::size_t j = 0; j < last; ++j)
       candidates.push_back((centre + chart.w[j] + chart.w[j + 1]) / 3);
     const std::size_t n_base = candidates.size();
-    for (int k = 1; k <= 8; ++k)
-      for (std::size_t c = 0; c < n_base; ++c)
-        candidates.push_back(centre + std::pow(0.5, k) * (candidates[c] - centre));
-    // Evaluated in parallel in the caller's arena (each task with its own
-    // layout; evaluate is const), ranked in the candidates' order: the
-    // same result for any number of threads.
-    std::erase_if(candidates, [&](const Vec2& c) { return !inside_polygon(polygon, c); });
-    std::vector<double> energies(candidates.size());
-    evaluate_each(chart, layout, candidates, energies, 4);
+    // The first halvings with them; the rest only when none of those is
+    // valid below the limit.
+    const int first = std::clamp(split_placement_.first_halvings, 0, 8);
     std::vector<std::pair<double, Vec2>> ranked;  // valid candidates below the limit
-    for (std::size_t k = 0; k < candidates.size(); ++k)
-      if (energies[k] < limit) ranked.push_back({energies[k], candidates[k]});
+    for (int from = 1, to = first; ranked.empty(); from = to + 1, to = 8) {
+      std::vector<Vec2> tried = from == 1 ? candidates : std::vector<Vec2>{};
+      for (int k = from; k <= to; ++k)
+        for (std::size_t c = 0; c < n_base; ++c)
+          tried.push_back(centre + std::pow(0.5, k) * (candidates[c] - centre));
+      // Evaluated in parallel in the caller's arena (each task with its own
+      // layout; evaluate is const), ranked in the candidates' order: the
+      // same result for any number of threads.
+      std::erase_if(tried, [&](const Vec2& c) { return !inside_polygon(polygon, c); });
+      std::vector<double> energies(tried.size());
+      evaluate_each(chart, layout, tried, energies, 4);
+      stats_.split_evaluations += tried.size();
+      for (std::size_t k = 0; k < tried.size(); ++k)
+        if (energies[k] < limit) ranked.push_back({energies[k], tried[k]});
+      if (to == 8) break;
+    }
     std::stable_sort(ranked.begin(), ranked.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     if (!ranked.empty()) {
@@ -2103,10 +2111,12 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
           polygon, p,
           [&](const Vec2& q) {
             layout.inner[0].pos = q;
+            ++stats_.split_evaluations;
             return evaluate(chart, layout, nullptr);
           },
-          LineSearch::parabolic, HUGE_VAL, KernelSearch{},
+          LineSearch::parabolic, HUGE_VAL, split_placement_.search,
           [&](std::span<const Vec2> at, std::span<double> out) {
+            stats_.split_evaluations += at.size();
             evaluate_each(chart, layout, at, out, (at.size() + 1) / 2);
           });
       if (e < ranked[0].first) ranked.insert(ranked.begin(), {e, p});

@@ -275,6 +275,8 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
   refine.fine_search = {1e-3, 1};
   refine.search.model_seed = refine.fine_search.model_seed = true;
+  refine.fine_split_placement = {1, refine.fine_search};
+  refine.relax_from_movers = true;
   refine.progress = [&](double f) { refine_progress.update(f); };
   SurfaceRefineStats stats;
   try {
@@ -366,10 +368,13 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   j["search"] = {
       {"coarse", {{"tolerance", refine.search.tolerance}, {"rounds", refine.search.rounds}}},
       {"fine",
-       {{"tolerance", refine.fine_search.tolerance}, {"rounds", refine.fine_search.rounds}}},
+       {{"tolerance", refine.fine_search.tolerance},
+        {"rounds", refine.fine_search.rounds},
+        {"split_first_halvings", refine.fine_split_placement.first_halvings}}},
       {"fine_from", refine.fine_search_from},
       {"model_seed", refine.fine_search.model_seed}};
   j["relaxation_gain"] = refine.local_relaxation_gain;
+  j["relax_from_movers"] = refine.relax_from_movers;
   j["level_sweeps"] = refine.max_level_sweeps;
   j["final_level_merge"] = refine.final_level_merge;
   j["schedule"] = schedule.fast ? "fast" : "thorough";

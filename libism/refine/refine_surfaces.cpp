@@ -244,9 +244,15 @@ Coloured colour_order(const InterSurfaceMap& map, int side) {
 /// planner on, each colour in batches planned ahead (no two of a batch
 /// neighbours, so a commit seldom changes a later plan of its batch). The
 /// energy gained.
+/// The vertices whose move gained more than `threshold` (pairs side, vertex).
+struct Movers {
+  double threshold = 0;
+  std::vector<std::pair<int, int>> list;
+};
+
 double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side,
                           const Coloured& coloured, RefineStage stage, Planner& planner,
-                          Backoff* backoff, SurfaceRefineStats& stats) {
+                          Backoff* backoff, SurfaceRefineStats& stats, Movers* movers = nullptr) {
   double gain = 0;
   std::vector<std::pair<int, int>> batch;
   const auto& order = coloured.order;
@@ -260,9 +266,12 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
         for (std::size_t k = k0; k < k1; ++k) batch.push_back({side, order[k]});
         planner.plan(batch, backoff, stats);
       }
-      for (std::size_t k = k0; k < k1; ++k)
-        gain += optimise(map, options, side, order[k], stage, planner, backoff, stats,
-                         planning ? &planner.plan(k - k0) : nullptr);
+      for (std::size_t k = k0; k < k1; ++k) {
+        const double g = optimise(map, options, side, order[k], stage, planner, backoff, stats,
+                                  planning ? &planner.plan(k - k0) : nullptr);
+        gain += g;
+        if (movers && g > movers->threshold) movers->list.push_back({side, order[k]});
+      }
       k0 = k1;
     }
   }
@@ -270,14 +279,15 @@ double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& opti
 }
 
 double sweep(InterSurfaceMap& map, const SurfaceRefineOptions& options, RefineStage stage,
-             Planner& planner, Backoff* backoff, SurfaceRefineStats& stats) {
+             Planner& planner, Backoff* backoff, SurfaceRefineStats& stats,
+             Movers* movers = nullptr) {
   // Vertices of one colour (no two adjacent) next to each other: the rings
   // of a batch planned together do not share faces, so an earlier commit
   // seldom changes a later plan.
   double gain = 0;
   for (int side = 0; side < 2; ++side)
     gain += optimise_by_colour(map, options, side, colour_order(map, side), stage, planner, backoff,
-                               stats);
+                               stats, movers);
   return gain;
 }
 
@@ -357,13 +367,25 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
 
 LocalRelaxationStats local_relaxation(InterSurfaceMap& map, const SurfaceRefineOptions& options,
                                       RefineStage stage, Planner& planner, Backoff* backoff,
-                                      SurfaceRefineStats& timing) {
+                                      SurfaceRefineStats& timing, const Movers* movers = nullptr) {
   if (!(options.local_relaxation_budget > 0)) return {};
+  // Seeds: every vertex, or where the sweep before moved: each mover, its
+  // neighbours and the other side's vertices in its ring.
+  std::array<std::vector<char>, 2> seed;
+  if (movers) {
+    for (int side = 0; side < 2; ++side) seed[side].assign(map.meta().side[side].n_vertices(), 0);
+    for (const auto& [side, v] : movers->list) {
+      seed[side][v] = 1;
+      for (int w : map.neighbours(side, v)) seed[side][w] = 1;
+      for (int x : map.others_in_ring(side, v)) seed[1 - side][x] = 1;
+    }
+  }
   // (By colour, as a sweep: the queue's first entries planned together
   // seldom share a face.)
   std::vector<std::pair<int, int>> all;
   for (int side = 0; side < 2; ++side)
-    for (int v : colour_order(map, side).order) all.push_back({side, v});
+    for (int v : colour_order(map, side).order)
+      if (!movers || seed[side][v]) all.push_back({side, v});
   const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
   return relax_from(map, options, all, std::size_t(options.local_relaxation_budget * vertices),
                     stage, planner, backoff, timing);
@@ -528,6 +550,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   auto search_settings = [&] {
     if (!fine && applied() >= options.fine_search_from * double(total_splits)) fine = true;
     map.set_search(fine ? options.fine_search : options.search);
+    map.set_split_placement(fine ? options.fine_split_placement : options.split_placement);
   };
   for (;;) {
     search_settings();
@@ -595,12 +618,18 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     }
     if (level) {
       const double e = planner.energy();
+      Movers movers;
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats) < 1e-3 * e)
+        movers.list.clear();
+        movers.threshold = options.local_relaxation_gain * planner.energy() /
+                           double(map.n_vertices(0) + map.n_vertices(1));
+        if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats, &movers) <
+            1e-3 * e)
           break;
       }
-      add(local_relaxation(map, options, RefineStage::relaxation, planner, backoff, stats));
+      add(local_relaxation(map, options, RefineStage::relaxation, planner, backoff, stats,
+                           options.relax_from_movers ? &movers : nullptr));
       last_sweep = map.n_vertices(0) + map.n_vertices(1);
       if (options.after_level && !options.after_level(map)) {
         stats.stopped = true;
@@ -617,14 +646,19 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         throw std::runtime_error("map invalid after the global step before the final sweeps: " +
                                  *problem);
   }
+  Movers movers;
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = planner.energy();
     ++stats.final_sweeps;
-    if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats) <
+    movers.list.clear();
+    movers.threshold =
+        options.local_relaxation_gain * e / double(map.n_vertices(0) + map.n_vertices(1));
+    if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats, &movers) <
         options.final_relative_gain * e)
       break;
   }
-  add(local_relaxation(map, options, RefineStage::final_relaxation, planner, backoff, stats));
+  add(local_relaxation(map, options, RefineStage::final_relaxation, planner, backoff, stats,
+                       options.relax_from_movers ? &movers : nullptr));
   return closed();
 }
 

@@ -54,6 +54,11 @@ struct SurfaceRefineOptions {
   /// confined by its squeezed neighbours.
   double local_relaxation_gain = 1e-4;
   double local_relaxation_budget = 100;
+  /// The queue after a level's sweeps and after the final ones starts from
+  /// where the last sweep still moved (each vertex that gained more than
+  /// the queue's threshold, its neighbours, the other side's vertices in
+  /// its ring) instead of from every vertex (false). ism-map sets it.
+  bool relax_from_movers = false;
   /// How far the optimisations search in general charts
   /// (InterSurfaceMap::set_search): `search` until `fine_search_from` of
   /// both sides' splits are applied, then `fine_search` to the end (the
@@ -64,6 +69,13 @@ struct SurfaceRefineOptions {
   KernelSearch search;
   KernelSearch fine_search;
   double fine_search_from = 0.25;
+  /// How splits place their new vertex (InterSurfaceMap::set_split_placement),
+  /// switched with the search at `fine_search_from`. ism-map's fine levels
+  /// evaluate the first halving only and search like the optimisations:
+  /// the ring's optimisation soon after moves the vertex again
+  /// (docs/results-ism.md, stop 89).
+  SplitPlacement split_placement;
+  SplitPlacement fine_split_placement;
   /// During local relaxation, a vertex of side 1 that keeps gaining has the
   /// disc of `local_disc_rings` rings around it re-embedded whole after
   /// every `local_disc_every` gaining moves (0: never), where the disc lies

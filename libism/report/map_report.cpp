@@ -54,6 +54,8 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["fast_path_fraction"] = double(o.fast_path) / n;
   j["developed_fraction"] = double(o.developed) / n;
   j["general_fraction"] = double(o.general) / n;
+  j["split_evaluations_per_split"] =
+      double(o.split_evaluations) / double(std::max<std::size_t>(1, o.splits));
   j["splits_in_place"] = o.splits_in_place;
   j["split_retries"] = o.split_retries;
   j["splits_placed_in_a_later_round"] = o.splits_later_round;

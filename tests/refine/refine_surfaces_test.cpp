@@ -706,16 +706,22 @@ TEST(RefineSurfaces, OptimisationsAreCountedByStage) {
   EXPECT_STREQ(refine_stage_name(RefineStage::final_relaxation), "final_relaxation");
 }
 
+// A sphere and a blob of 400 / 480 faces over the octahedron (the search
+// and placement tests' pair).
+std::array<ProgressiveMesh, 2> sphere_and_blob() {
+  const TriangleMesh a = shapes::sphere(400), b = shapes::blob(480, 3);
+  const TriangleMesh octahedron = domain::octahedron();
+  return {simplify_constrained(trace_octahedral_network(a), octahedron),
+          simplify_constrained(trace_octahedral_network(b), octahedron)};
+}
+
 // How far the optimisations search (search, then fine_search once
 // fine_search_from of the splits are applied): a switch that never comes
 // changes nothing, byte for byte; searching the fine levels in one round to
 // 1e-3 costs far fewer energy evaluations per optimisation and ends at
 // nearly the same energy, a valid map.
 TEST(RefineSurfaces, FineLevelsSearchedLooselyCostFewerEvaluations) {
-  const TriangleMesh a = shapes::sphere(400), b = shapes::blob(480, 3);
-  const TriangleMesh octahedron = domain::octahedron();
-  const ProgressiveMesh pa = simplify_constrained(trace_octahedral_network(a), octahedron);
-  const ProgressiveMesh pb = simplify_constrained(trace_octahedral_network(b), octahedron);
+  const auto [pa, pb] = sphere_and_blob();
   struct Run {
     std::string file;
     double energy, evaluations;
@@ -743,6 +749,71 @@ TEST(RefineSurfaces, FineLevelsSearchedLooselyCostFewerEvaluations) {
       "sphere / blob: evaluations per optimisation %.2f -> %.2f (one round to 1e-3 past a "
       "quarter of the splits); energy %.6f -> %.6f\n",
       precise.evaluations, fine.evaluations, precise.energy, fine.energy);
+}
+
+// How splits place their new vertex (split_placement, then
+// fine_split_placement from fine_search_from on): a switch that never comes
+// changes nothing, byte for byte; placing the fine levels' splits from the
+// first halving with the loose search costs far fewer evaluations per split
+// and ends at nearly the same energy, a valid map.
+TEST(RefineSurfaces, FineSplitsPlacedFromTheFirstHalvingCostFewerEvaluations) {
+  const auto [pa, pb] = sphere_and_blob();
+  struct Run {
+    std::string file;
+    double energy, evaluations;
+  };
+  const KernelSearch loose{1e-3, 1};
+  auto run = [&](SplitPlacement fine, double from) {
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+    SurfaceRefineOptions options;
+    options.fine_search = loose;
+    options.fine_split_placement = fine;
+    options.fine_search_from = from;
+    refine_surfaces(map, options);
+    EXPECT_FALSE(map.validate());
+    EXPECT_TRUE(map.split_placement() == (from <= 1 ? fine : options.split_placement));
+    const MapOperationStats& o = map.stats();
+    return Run{meta_mesh_bytes(map, "ism_split_placement.meta"), map.energy(),
+               double(o.split_evaluations) / double(o.splits)};
+  };
+  const SplitPlacement first{1, loose};
+  const Run wide_never = run({}, 2.0), never = run(first, 2.0);
+  EXPECT_FALSE(never.file.empty());
+  EXPECT_TRUE(never.file == wide_never.file);
+  const Run wide = run({}, 0.25), fine = run(first, 0.25);
+  EXPECT_GT(wide.evaluations, 20.0);
+  EXPECT_LT(fine.evaluations, 0.6 * wide.evaluations);
+  EXPECT_LT(std::abs(fine.energy - wide.energy), 0.01 * wide.energy);
+  std::printf(
+      "sphere / blob: evaluations per split %.2f -> %.2f (from the first halving, one round "
+      "to 1e-3, past a quarter of the splits); energy %.6f -> %.6f\n",
+      wide.evaluations, fine.evaluations, wide.energy, fine.energy);
+}
+
+// The relaxation queues after the level sweeps and the final ones started
+// from where the last sweep moved (relax_from_movers): fewer optimisations
+// than from every vertex, a valid map at nearly the same energy.
+TEST(RefineSurfaces, RelaxationFromTheMoversRunsFewerOptimisations) {
+  const auto [pa, pb] = sphere_and_blob();
+  auto run = [&](bool from_movers, SurfaceRefineStats& stats) {
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
+    SurfaceRefineOptions options;
+    options.relax_from_movers = from_movers;
+    stats = refine_surfaces(map, options);
+    EXPECT_FALSE(map.validate());
+    return map.energy();
+  };
+  SurfaceRefineStats all, movers;
+  const double e_all = run(false, all), e_movers = run(true, movers);
+  auto relaxation = [](const SurfaceRefineStats& s) {
+    return s.optimizations_by_stage[std::size_t(RefineStage::relaxation)] +
+           s.optimizations_by_stage[std::size_t(RefineStage::final_relaxation)];
+  };
+  EXPECT_GT(relaxation(movers), 0u);
+  EXPECT_LT(relaxation(movers), relaxation(all));
+  EXPECT_LT(std::abs(e_movers - e_all), 0.01 * e_all);
+  std::printf("sphere / blob: relaxation optimisations %zu -> %zu; energy %.6f -> %.6f\n",
+              relaxation(all), relaxation(movers), e_all, e_movers);
 }
 
 }  // namespace
