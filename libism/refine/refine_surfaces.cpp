@@ -240,16 +240,23 @@ Coloured colour_order(const InterSurfaceMap& map, int side) {
   return by_colour(map, side, all);
 }
 
-/// Optimises these vertices of a side colour after colour; with the
-/// planner on, each colour in batches planned ahead (no two of a batch
-/// neighbours, so a commit seldom changes a later plan of its batch). The
-/// energy gained.
 /// The vertices whose move gained more than `threshold` (pairs side, vertex).
 struct Movers {
   double threshold = 0;
   std::vector<std::pair<int, int>> list;
 };
 
+/// The gain above which a move queues its neighbours in the local
+/// relaxation (the options' share of the mean energy per vertex at `energy`).
+double relaxation_threshold(const InterSurfaceMap& map, const SurfaceRefineOptions& options,
+                            double energy) {
+  return options.local_relaxation_gain * energy / double(map.n_vertices(0) + map.n_vertices(1));
+}
+
+/// Optimises these vertices of a side colour after colour; with the
+/// planner on, each colour in batches planned ahead (no two of a batch
+/// neighbours, so a commit seldom changes a later plan of its batch). The
+/// energy gained.
 double optimise_by_colour(InterSurfaceMap& map, const SurfaceRefineOptions& options, int side,
                           const Coloured& coloured, RefineStage stage, Planner& planner,
                           Backoff* backoff, SurfaceRefineStats& stats, Movers* movers = nullptr) {
@@ -319,8 +326,7 @@ LocalRelaxationStats relax_from(InterSurfaceMap& map, const SurfaceRefineOptions
     queued[side][v] = 1;
   };
   for (const auto& [side, v] : seeds) enqueue(side, v);
-  const double vertices = double(map.n_vertices(0) + map.n_vertices(1));
-  const double threshold = options.local_relaxation_gain * planner.energy() / vertices;
+  const double threshold = relaxation_threshold(map, options, planner.energy());
   std::vector<int> gaining;  // moves of side 1 that gained, per vertex (with discs only)
   if (options.local_disc_every > 0) gaining.assign(map.meta().side[1].n_vertices(), 0);
   // With plans: the queue's first entries planned together; committed as
@@ -619,17 +625,15 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     if (level) {
       const double e = planner.energy();
       Movers movers;
+      Movers* record = options.relax_from_movers ? &movers : nullptr;
       for (int k = 0; k < options.max_level_sweeps; ++k) {
         ++stats.sweeps;
-        movers.list.clear();
-        movers.threshold = options.local_relaxation_gain * planner.energy() /
-                           double(map.n_vertices(0) + map.n_vertices(1));
-        if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats, &movers) <
+        movers = {relaxation_threshold(map, options, planner.energy()), {}};
+        if (sweep(map, options, RefineStage::level_sweeps, planner, backoff, stats, record) <
             1e-3 * e)
           break;
       }
-      add(local_relaxation(map, options, RefineStage::relaxation, planner, backoff, stats,
-                           options.relax_from_movers ? &movers : nullptr));
+      add(local_relaxation(map, options, RefineStage::relaxation, planner, backoff, stats, record));
       last_sweep = map.n_vertices(0) + map.n_vertices(1);
       if (options.after_level && !options.after_level(map)) {
         stats.stopped = true;
@@ -647,18 +651,17 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
                                  *problem);
   }
   Movers movers;
+  Movers* record = options.relax_from_movers ? &movers : nullptr;
   for (int k = 0; k < options.max_final_sweeps; ++k) {
     const double e = planner.energy();
     ++stats.final_sweeps;
-    movers.list.clear();
-    movers.threshold =
-        options.local_relaxation_gain * e / double(map.n_vertices(0) + map.n_vertices(1));
-    if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats, &movers) <
+    movers = {relaxation_threshold(map, options, e), {}};
+    if (sweep(map, options, RefineStage::final_sweeps, planner, backoff, stats, record) <
         options.final_relative_gain * e)
       break;
   }
   add(local_relaxation(map, options, RefineStage::final_relaxation, planner, backoff, stats,
-                       options.relax_from_movers ? &movers : nullptr));
+                       record));
   return closed();
 }
 
