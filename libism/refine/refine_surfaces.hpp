@@ -131,6 +131,16 @@ struct SurfaceRefineOptions {
   /// negative: never). The paper uses its constraints to initialise the map
   /// and drops them during the coarse-to-fine optimisation.
   double release_features_at = -1;
+  /// A split that finds no place while the other side still has splits
+  /// (and no features are left to release first) is put off: the other
+  /// side splits until its vertices have grown by this fraction (at least
+  /// one split; with their optimisations and any level that falls due),
+  /// then the split is tried again; at most `max_deferrals` times in a
+  /// row, then its error is thrown. Near a held feature a coarse other side
+  /// may leave a split no room that its own refinement makes. 0: never
+  /// put off.
+  double defer_growth = 0;
+  int max_deferrals = 4;
   std::function<void(double)> progress;  // fraction of all splits done
   /// Called after every split and every kept move (for traces and tests of
   /// the energy bookkeeping); may throw to stop the refinement.
@@ -206,6 +216,8 @@ struct SurfaceRefineStats {
   /// The fraction of the splits done when the held features were released
   /// early because a split found no place while they were held (-1: not).
   double features_released_early_at = -1;
+  /// Splits put off until the other side had refined (defer_growth).
+  std::size_t split_deferrals = 0;
   /// The coarse race (SurfaceRefineOptions::race_level_sweeps): each
   /// schedule's energy where the race ended (same order; HUGE_VAL for a
   /// copy whose split failed), the winner's
@@ -221,7 +233,8 @@ struct SurfaceRefineStats {
 /// When the features are to be released later (release_features_at >= 0)
 /// and a split fails while they are held, they are released there and the
 /// split tried again (a held feature may be the vertex that has to move);
-/// only that second failure throws.
+/// otherwise a failed split may be put off (defer_growth); only the last
+/// failure throws.
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// One line (no newline) on a refinement refine_surfaces stopped with the

@@ -67,6 +67,7 @@ void add_operations(Json& j, const InterSurfaceMap& map, const SurfaceRefineStat
   j["hard_splits"] = stats.hard_splits;
   if (stats.features_released_early_at >= 0)
     j["features_released_early_at"] = stats.features_released_early_at;
+  j["split_deferrals"] = stats.split_deferrals;
   j["large_chart_skips"] = stats.large_chart_skips;
   j["discs"] = stats.discs;
   j["discs_applied"] = stats.discs_applied;

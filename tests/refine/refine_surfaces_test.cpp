@@ -357,6 +357,68 @@ TEST(RefineSurfaces, ASplitBlockedWhileFeaturesAreHeldReleasesThemEarly) {
   }
 }
 
+// With the features held throughout, a split that finds no place in any
+// retry is put off (defer_growth): the other side makes its next
+// ceil(defer_growth x its vertices) splits, then the split is tried again.
+// Put off twice, it then finds its place and the map refines to full
+// resolution, valid, the features still held; failing a third time it stops
+// the refinement (max_deferrals 2), the map valid at the split before.
+TEST(RefineSurfaces, ASplitThatFindsNoPlaceIsPutOffWhileTheOtherSideRefines) {
+  const auto [pa, pb] = held_pair();
+  InterSurfaceOptions held;
+  held.hold_features = true;
+  const std::size_t total = pa.splits.size() + pb.splits.size();
+  const int every = InterSurfaceMap::kSplitRounds * (InterSurfaceMap::kSplitRetries + 1);
+  for (const int failures : {2, 3}) {
+    SCOPED_TRACE(failures);
+    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb), held);
+    SurfaceRefineOptions options;
+    options.defer_growth = 0.1;
+    options.max_deferrals = 2;
+    std::size_t splits = 0, others = 0, expected_others = 0, all_others = 0, failed_at = 0;
+    int failed_side = -1, left = failures;
+    std::vector<int> sides_after;  // the sides of the splits after the first failure
+    auto fail_next = [&] {
+      expected_others = std::size_t(std::ceil(0.1 * double(map.n_vertices(1 - failed_side))));
+      all_others += expected_others;
+      others = 0;
+      --left;
+      InterSurfaceMapTestAccess::refuse_split_attempts(map, every);  // the next split fails
+    };
+    options.on_step = [&](const SurfaceStep& step) {
+      if (step.kind != SurfaceStep::split) return;
+      if (failed_side >= 0) {
+        sides_after.push_back(step.side);
+        if (step.side != failed_side && ++others == expected_others && left > 0) fail_next();
+      }
+      if (++splits == total / 4) {
+        auto fraction = [&](int s) {
+          return double(map.splits_applied(s)) / double(map.splits_total(s));
+        };
+        failed_side = fraction(0) <= fraction(1) ? 0 : 1;  // the next split's side
+        failed_at = map.splits_applied(failed_side);
+        fail_next();
+      }
+    };
+    if (failures == 3) {
+      EXPECT_THROW(refine_surfaces(map, options), std::runtime_error);
+      EXPECT_EQ(map.splits_applied(failed_side), failed_at);
+      EXPECT_FALSE(map.validate());
+      continue;
+    }
+    const SurfaceRefineStats stats = refine_surfaces(map, options);
+    EXPECT_EQ(stats.split_deferrals, 2u);
+    // The other side's splits of both times, then the split put off.
+    const auto placed = std::find(sides_after.begin(), sides_after.end(), failed_side);
+    EXPECT_EQ(std::size_t(placed - sides_after.begin()), all_others);
+    EXPECT_GT(all_others, 2u);
+    EXPECT_EQ(map.splits_applied(0), pa.splits.size());
+    EXPECT_EQ(map.splits_applied(1), pb.splits.size());
+    EXPECT_TRUE(map.is_pinned(0, pa.base_vertices[0]));
+    EXPECT_FALSE(map.validate());
+  }
+}
+
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
 // gim-remesh's --core symmetric does): the same map at the start (its
 // measures equal SurfaceMap's), then every step valid and each gain the
