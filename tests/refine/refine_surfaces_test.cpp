@@ -31,6 +31,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace ism {
 namespace {
 
@@ -674,7 +676,10 @@ TEST(RefineSurfaces, HardSplitsAreRelaxedSoACreasedModelCompletes) {
 
 /// The bytes of a map's meta-mesh file.
 std::string meta_mesh_bytes(const InterSurfaceMap& map, const std::string& name) {
-  const auto path = std::filesystem::temp_directory_path() / name;
+  // (Named by the process too: test runs of two checkouts may share the
+  // temporary directory.)
+  const auto path =
+      std::filesystem::temp_directory_path() / (std::to_string(::getpid()) + "_" + name);
   EXPECT_TRUE(write_meta_mesh(map.meta(), path));
   std::ifstream in(path, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
