@@ -600,18 +600,25 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
       } catch (const std::runtime_error&) {
         // The map is as before the split. Holding the features may be what
         // blocks it: release them now, as the schedule would later.
+        std::exception_ptr failure = std::current_exception();
         if (!released && options.release_features_at >= 0) {
           stats.features_released_early_at = applied() / double(total_splits);
           release();
-          planner.run([&] { vs = map.split_next(side); });
-        } else {
+          try {
+            planner.run([&] { vs = map.split_next(side); });
+            failure = nullptr;
+          } catch (const std::runtime_error&) {
+            failure = std::current_exception();
+          }
+        }
+        if (failure) {
           // Or the other side is too coarse there yet: put the split off
           // while the other side refines, then try it again.
           const std::size_t other_left = map.splits_total(1 - side) - map.splits_applied(1 - side);
           const int times = side == deferred.retry ? deferred.times : 0;
           if (!(options.defer_growth > 0) || other_left == 0 || ++deferred.stalled > 1 ||
               times >= options.max_deferrals)
-            throw;
+            std::rethrow_exception(failure);
           deferred.times = times + 1;
           ++stats.split_deferrals;
           deferred.side = side;

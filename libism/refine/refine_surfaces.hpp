@@ -132,7 +132,7 @@ struct SurfaceRefineOptions {
   /// and drops them during the coarse-to-fine optimisation.
   double release_features_at = -1;
   /// A split that finds no place while the other side still has splits
-  /// (and no features are left to release first) is put off: the other
+  /// (after the features are released, if they were to be) is put off: the other
   /// side splits until its vertices have grown by this fraction (at least
   /// one split; with their optimisations and any level that falls due),
   /// then the split is tried again; at most `max_deferrals` times in a
@@ -233,8 +233,8 @@ struct SurfaceRefineStats {
 /// When the features are to be released later (release_features_at >= 0)
 /// and a split fails while they are held, they are released there and the
 /// split tried again (a held feature may be the vertex that has to move);
-/// otherwise a failed split may be put off (defer_growth); only the last
-/// failure throws.
+/// a split that still fails, or fails with no features to release, may be
+/// put off (defer_growth); only the last failure throws.
 SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOptions& options = {});
 
 /// One line (no newline) on a refinement refine_surfaces stopped with the

@@ -365,6 +365,7 @@ TEST(RefineSurfaces, ASplitBlockedWhileFeaturesAreHeldReleasesThemEarly) {
 // Put off twice, it then finds its place and the map refines to full
 // resolution, valid, the features still held; failing a third time it stops
 // the refinement (max_deferrals 2), the map valid at the split before.
+// Features still to be released are released first.
 TEST(RefineSurfaces, ASplitThatFindsNoPlaceIsPutOffWhileTheOtherSideRefines) {
   const auto [pa, pb] = held_pair();
   InterSurfaceOptions held;
@@ -419,6 +420,24 @@ TEST(RefineSurfaces, ASplitThatFindsNoPlaceIsPutOffWhileTheOtherSideRefines) {
     EXPECT_TRUE(map.is_pinned(0, pa.base_vertices[0]));
     EXPECT_FALSE(map.validate());
   }
+  // Features to be released later: the blocked split releases them first,
+  // and when it still finds no place it is put off.
+  InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb), held);
+  SurfaceRefineOptions options;
+  options.release_features_at = 0.6;
+  options.defer_growth = 0.1;
+  std::size_t splits = 0;
+  options.on_step = [&](const SurfaceStep& step) {
+    if (step.kind == SurfaceStep::split && ++splits == total / 4)
+      InterSurfaceMapTestAccess::refuse_split_attempts(map, 2 * every);  // held, then released
+  };
+  const SurfaceRefineStats stats = refine_surfaces(map, options);
+  EXPECT_DOUBLE_EQ(stats.features_released_early_at, double(total / 4) / double(total));
+  EXPECT_EQ(stats.split_deferrals, 1u);
+  EXPECT_FALSE(map.is_pinned(0, pa.base_vertices[0]));
+  EXPECT_EQ(map.splits_applied(0), pa.splits.size());
+  EXPECT_EQ(map.splits_applied(1), pb.splits.size());
+  EXPECT_FALSE(map.validate());
 }
 
 // The symmetric core resumed from a SurfaceMap refined part of the way (as
