@@ -531,14 +531,13 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
   int side = fraction(0) <= fraction(1) ? 0 : 1;
   std::size_t in_block = 0;
   // A split put off (options.defer_growth): its side, the other side's
-  // splits still to make before it is tried again, how often it was, the
-  // side whose next split is that retry; and the failures since the last
-  // split made (two in a row: neither side can go on).
+  // splits still to make before it is tried again, how often it was; and
+  // the failures since the last split made (two in a row: neither side can
+  // go on).
   struct Deferred {
     int side = -1;
     std::size_t left = 0;
     int times = 0;
-    int retry = -1;
     int stalled = 0;
   } deferred;
   Planner planner(map, options);
@@ -582,8 +581,10 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
     bool level = false;
     while (!level && splits.size() < std::max<std::size_t>(options.split_batch, 1) &&
            (fraction(0) < 1 || fraction(1) < 1)) {
-      if (deferred.side >= 0 && (deferred.left == 0 || fraction(1 - deferred.side) >= 1)) {
-        side = deferred.retry = deferred.side;  // the split put off, tried again
+      const bool retry =  // the split put off, tried again
+          deferred.side >= 0 && (deferred.left == 0 || fraction(1 - deferred.side) >= 1);
+      if (retry) {
+        side = deferred.side;
         deferred.side = -1;
         in_block = 0;
       } else if (deferred.side >= 0) {
@@ -615,14 +616,13 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
           // Or the other side is too coarse there yet: put the split off
           // while the other side refines, then try it again.
           const std::size_t other_left = map.splits_total(1 - side) - map.splits_applied(1 - side);
-          const int times = side == deferred.retry ? deferred.times : 0;
+          const int times = retry ? deferred.times : 0;
           if (!(options.defer_growth > 0) || other_left == 0 || ++deferred.stalled > 1 ||
               times >= options.max_deferrals)
             std::rethrow_exception(failure);
           deferred.times = times + 1;
           ++stats.split_deferrals;
           deferred.side = side;
-          deferred.retry = -1;
           deferred.left = std::min(
               other_left,
               std::max<std::size_t>(1, std::size_t(std::ceil(options.defer_growth *
@@ -632,7 +632,7 @@ SurfaceRefineStats refine_surfaces(InterSurfaceMap& map, const SurfaceRefineOpti
         }
       }
       deferred.stalled = 0;
-      if (side == deferred.retry) deferred.times = 0, deferred.retry = -1;
+      if (retry) deferred.times = 0;
       stats.seconds_splits += split_watch.seconds();
       ++in_block;
       ++stats.splits;

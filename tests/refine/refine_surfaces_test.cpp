@@ -801,6 +801,21 @@ std::array<ProgressiveMesh, 2> sphere_and_blob() {
           simplify_constrained(trace_octahedral_network(b), octahedron)};
 }
 
+/// Both sides refined with `options` from the trivial map, checked valid:
+/// the map and the bytes of its meta-mesh file (written as `name`).
+struct Refined {
+  InterSurfaceMap map;
+  std::string file;
+};
+Refined refined(const ProgressiveMesh& pa, const ProgressiveMesh& pb,
+                const SurfaceRefineOptions& options, const std::string& name) {
+  Refined r{InterSurfaceMap(side_from_pm(pa), side_from_pm(pb)), {}};
+  refine_surfaces(r.map, options);
+  EXPECT_FALSE(r.map.validate());
+  r.file = meta_mesh_bytes(r.map, name);
+  return r;
+}
+
 // How far the optimisations search (search, then fine_search once
 // fine_search_from of the splits are applied): a switch that never comes
 // changes nothing, byte for byte; searching the fine levels in one round to
@@ -813,16 +828,13 @@ TEST(RefineSurfaces, FineLevelsSearchedLooselyCostFewerEvaluations) {
     double energy, evaluations;
   };
   auto run = [&](KernelSearch fine, double from) {
-    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
     SurfaceRefineOptions options;
     options.fine_search = fine;
     options.fine_search_from = from;
-    refine_surfaces(map, options);
-    EXPECT_FALSE(map.validate());
+    const auto [map, file] = refined(pa, pb, options, "ism_search.meta");
     EXPECT_TRUE(map.search() == (from <= 1 ? fine : options.search));
     const MapOperationStats& o = map.stats();
-    return Run{meta_mesh_bytes(map, "ism_search.meta"), map.energy(),
-               double(o.evaluations) / double(o.optimizations)};
+    return Run{file, map.energy(), double(o.evaluations) / double(o.optimizations)};
   };
   const KernelSearch loose{1e-3, 1};
   const Run precise = run({}, 0.25), never = run(loose, 2.0), fine = run(loose, 0.25);
@@ -850,17 +862,14 @@ TEST(RefineSurfaces, FineSplitsPlacedFromTheFirstHalvingCostFewerEvaluations) {
   };
   const KernelSearch loose{1e-3, 1};
   auto run = [&](SplitPlacement fine, double from) {
-    InterSurfaceMap map(side_from_pm(pa), side_from_pm(pb));
     SurfaceRefineOptions options;
     options.fine_search = loose;
     options.fine_split_placement = fine;
     options.fine_search_from = from;
-    refine_surfaces(map, options);
-    EXPECT_FALSE(map.validate());
+    const auto [map, file] = refined(pa, pb, options, "ism_split_placement.meta");
     EXPECT_TRUE(map.split_placement() == (from <= 1 ? fine : options.split_placement));
     const MapOperationStats& o = map.stats();
-    return Run{meta_mesh_bytes(map, "ism_split_placement.meta"), map.energy(),
-               double(o.split_evaluations) / double(o.splits)};
+    return Run{file, map.energy(), double(o.split_evaluations) / double(o.splits)};
   };
   const SplitPlacement first{1, loose};
   const Run wide_never = run({}, 2.0), never = run(first, 2.0);
