@@ -453,20 +453,22 @@ PYBIND11_MODULE(ism, m) {
 
   m.def(
       "gim_remesh",
-      [gim_result](
-          const py::object& surface, const py::object& faces, int size, const std::string& metric,
-          const std::string& core, const py::object& features, bool hold_features, int final_sweeps,
-          std::size_t contenders, double drop_behind, std::optional<double> inverse_weight,
-          std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
-          std::optional<double> anisotropy_threshold, const py::object& output,
-          const py::object& normals, const py::object& mesh, int draco_bits, bool glb_draco,
-          const py::object& preview, const py::object& mask, const py::object& dump_patches,
-          const py::object& meta_mesh, const py::object& report, bool quiet) {
+      [gim_result](const py::object& surface, const py::object& faces, int size,
+                   const std::string& metric, bool grid_points, const std::string& core,
+                   const py::object& features, bool hold_features, int final_sweeps,
+                   std::size_t contenders, double drop_behind, std::optional<double> inverse_weight,
+                   std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
+                   std::optional<double> anisotropy_threshold, const py::object& output,
+                   const py::object& normals, const py::object& mesh, int draco_bits,
+                   bool glb_draco, const py::object& preview, const py::object& mask,
+                   const py::object& dump_patches, const py::object& meta_mesh,
+                   const py::object& report, bool quiet) {
         pipeline::GimRemeshOptions o;
         o.input = input_mesh(surface, faces, "gim_remesh");
         o.features = feature_source(features, "features");
         o.size = size;
         o.metric = metric;
+        o.unfold = !grid_points;
         o.output = optional_path(output);
         o.normals = optional_path(normals);
         o.mesh = optional_path(mesh);
@@ -488,20 +490,21 @@ PYBIND11_MODULE(ism, m) {
                           faces_array(r.remesh.triangles), rep, alpha_array(r.image));
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 257,
-      "metric"_a = "right-isosceles", "core"_a = "surface-map", "features"_a = py::none(),
-      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0, "drop_behind"_a = 0.01,
-      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
-      "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
-      "output"_a = py::none(), "normals"_a = py::none(), "mesh"_a = py::none(), "draco_bits"_a = 14,
-      "glb_draco"_a = false, "preview"_a = py::none(), "mask"_a = py::none(),
-      "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
-      "quiet"_a = false,
+      "metric"_a = "right-isosceles", "grid_points"_a = false, "core"_a = "surface-map",
+      "features"_a = py::none(), "hold_features"_a = false, "final_sweeps"_a = 8,
+      "contenders"_a = 0, "drop_behind"_a = 0.01, "inverse_weight"_a = py::none(),
+      "curvature_weight"_a = py::none(), "anisotropy_weight"_a = py::none(),
+      "anisotropy_threshold"_a = py::none(), "output"_a = py::none(), "normals"_a = py::none(),
+      "mesh"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false, "preview"_a = py::none(),
+      "mask"_a = py::none(), "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(),
+      "report"_a = py::none(), "quiet"_a = false,
       "gim_remesh(path or V, F, *, size=257, ...) -> GimRemeshResult(image, normals, vertices, "
       "faces, report)\n\n"
       "Octahedral geometry image of a genus-0 surface (holes capped; the output .exr then has\n"
       "an alpha channel, mask (.png) marks the surface, vertices/faces drop the caps), as the\n"
       "gim-remesh tool (same\n"
-      "options, same defaults: curvature_weight None means the tool's 0.5, inverse_weight None\n"
+      "options, same defaults; grid_points is --grid-points; curvature_weight None means the "
+      "tool's 0.5, inverse_weight None\n"
       "its two map variants; core 'symmetric' the one map both sides refine, holes capped\n"
       "alike). features: a file path, 6 vertex indices or 6 points for\n"
       "+x -x +y -y +z -z (default automatic). output/normals (.exr), mesh (.obj .ply .off .stl\n"
@@ -576,8 +579,8 @@ PYBIND11_MODULE(ism, m) {
       [torus_result](
           const py::object& surface, const py::object& faces, const py::object& size,
           const py::object& features, bool triangulate, bool no_global_reembedding,
-          const std::string& core, bool hold_features, int final_sweeps, std::size_t contenders,
-          double drop_behind, std::optional<double> inverse_weight,
+          bool grid_points, const std::string& core, bool hold_features, int final_sweeps,
+          std::size_t contenders, double drop_behind, std::optional<double> inverse_weight,
           std::optional<double> curvature_weight, std::optional<double> anisotropy_weight,
           std::optional<double> anisotropy_threshold, const py::object& output,
           const py::object& image, int draco_bits, bool glb_draco, const py::object& dump_patches,
@@ -595,6 +598,7 @@ PYBIND11_MODULE(ism, m) {
         }
         o.triangulate = triangulate;
         o.no_global_reembedding = no_global_reembedding;
+        o.unfold = !grid_points;
         o.output = optional_path(output);
         o.image = optional_path(image);
         o.dump_patches = optional_path(dump_patches);
@@ -612,9 +616,9 @@ PYBIND11_MODULE(ism, m) {
             faces_array(r.quads.quads), faces_array(r.triangles.triangles), rep);
       },
       "surface"_a, "faces"_a = py::none(), py::kw_only(), "size"_a = 128, "features"_a = py::none(),
-      "triangulate"_a = false, "no_global_reembedding"_a = false, "core"_a = "surface-map",
-      "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0, "drop_behind"_a = 0.01,
-      "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
+      "triangulate"_a = false, "no_global_reembedding"_a = false, "grid_points"_a = false,
+      "core"_a = "surface-map", "hold_features"_a = false, "final_sweeps"_a = 8, "contenders"_a = 0,
+      "drop_behind"_a = 0.01, "inverse_weight"_a = py::none(), "curvature_weight"_a = py::none(),
       "anisotropy_weight"_a = py::none(), "anisotropy_threshold"_a = py::none(),
       "output"_a = py::none(), "image"_a = py::none(), "draco_bits"_a = 14, "glb_draco"_a = false,
       "dump_patches"_a = py::none(), "meta_mesh"_a = py::none(), "report"_a = py::none(),
@@ -622,7 +626,8 @@ PYBIND11_MODULE(ism, m) {
       "torus_remesh(path or V, F, *, size=128, ...) -> TorusRemeshResult(grid, vertices, quads, "
       "triangles, report)\n\n"
       "Valence-4 grid remesh of a closed genus-1 surface, as the torus-remesh tool (same\n"
-      "options and defaults). size: N, (U, V) or 'UxV'. features: a file path, 9 vertex\n"
+      "options and defaults; grid_points is --grid-points). size: N, (U, V) or 'UxV'. features: a "
+      "file path, 9 vertex\n"
       "indices or 9 points, row-major in the 3x3 grid (default automatic). core 'symmetric':\n"
       "the one map both sides refine (re-embedded on the flat torus before its final\n"
       "sweeps). output (quads as\n"

@@ -47,6 +47,15 @@ bool FoldTest::folded(std::size_t f, std::vector<std::size_t>& scratch) const {
   return normal_[f].dot(sum) < 0.0;
 }
 
+double FoldTest::fold_depth(std::size_t f, std::vector<std::size_t>& scratch) const {
+  ring(f, scratch);
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t g : scratch) sum += normal_[g];
+  const double scale = normal_[f].norm() * sum.norm();
+  if (!(scale > 0)) return 0.0;
+  return std::max(0.0, -normal_[f].dot(sum) / scale);
+}
+
 void FoldTest::influenced(int v, std::vector<std::size_t>& out) const {
   out.clear();
   std::vector<std::size_t> r;

@@ -138,6 +138,10 @@ class FoldTest {
 
   /// Whether face f is folded over the faces sharing a vertex with it.
   bool folded(std::size_t f, std::vector<std::size_t>& scratch) const;
+  /// How far: the cosine between f's normal and the sum of the area-weighted
+  /// normals of the faces sharing a vertex with it, negated and clamped at
+  /// 0 (0: not folded, 1: turned right over). 0 for a zero-area face.
+  double fold_depth(std::size_t f, std::vector<std::size_t>& scratch) const;
   /// The faces around vertex v.
   std::span<const std::size_t> faces_of(int v) const;
   /// The faces sharing a vertex with f (f included), sorted.

@@ -181,11 +181,20 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   const std::vector<Vec3> normals = vertex_normals(surface_faces, surface_positions);
   GimRemeshResult result;
   // Metric and layout agree: the right-isosceles octahedron is the square.
-  result.image = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+  auto position_at = [&](const OctahedronPoint& q) {
     const auto s = locate(q.face, q.bary);
     if (!s) throw std::runtime_error("a sample fell outside the map");
     return s->position;
-  });
+  };
+  result.image = sample_octahedral(o.size, position_at);
+  // Folded grid triangles re-sampled nearby; the normals follow the samples.
+  std::vector<OctahedronPoint> moved_to;
+  UnfoldReport unfolded;
+  if (o.unfold) {
+    unfolded = unfold_geometry_image(result.image, position_at, &moved_to);
+  } else {
+    unfolded.folds_before = unfolded.folds_after = flipped_triangles(result.image);
+  }
   if (open) {
     // The pixel's alpha: 1 on the input surface, 0 on a cap (mirrored
     // pixels are the same octahedron point, so they agree).
@@ -197,14 +206,17 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
     for (std::size_t p = 0; p < on.pixels.size(); ++p)
       result.image.alpha[p] = float(on.pixels[p].x());
   }
-  result.normals = sample_octahedral(o.size, [&](const OctahedronPoint& q) {
+  auto normal_at = [&](const OctahedronPoint& q) {
     const auto s = locate(q.face, q.bary);
     if (!s) throw std::runtime_error("a sample fell outside the map");
     const Triangle& t = surface_faces[s->face];
     return Vec3(
         (s->bary[0] * normals[t[0]] + s->bary[1] * normals[t[1]] + s->bary[2] * normals[t[2]])
             .normalized());
-  });
+  };
+  result.normals = sample_octahedral(o.size, normal_at);
+  for (std::size_t p = 0; p < moved_to.size(); ++p)
+    if (moved_to[p].face >= 0) result.normals.pixels[p] = normal_at(moved_to[p]);
   const GeometryImage& image = result.image;
   finished.sampler.reset();  // (its index is not needed from here on)
 
@@ -238,7 +250,9 @@ GimRemeshResult gim_remesh(tool::Run& run, const GimRemeshOptions& o) {
   Json& ij = r["image"];
   ij["efficiency_square"] = square_efficiency;
   ij["efficiency_octahedron"] = image_efficiency(image, ImageDomain::octahedron);
-  ij["flipped_triangles"] = flipped_triangles(image);
+  ij["flipped_triangles"] = unfolded.folds_after;
+  ij["flipped_triangles_at_grid_points"] = unfolded.folds_before;
+  ij["resampled_vertices"] = unfolded.moved_vertices;
   ij["remesh_vertices"] = result.remesh.n_vertices();
   ij["remesh_faces"] = result.remesh.n_faces();
   r["distance"] = distance_report(distance);

@@ -32,6 +32,10 @@ struct GimRemeshOptions {
   // PLY of the patches.
   std::string output, normals, mesh, preview, mask, dump_patches;
   io::MeshFileOptions mesh_file;
+  /// Pixels of folded grid triangles re-sampled at nearby square points
+  /// (unfold_geometry_image(), closed surfaces; the normal map follows);
+  /// off (--grid-points): every pixel at its grid point.
+  bool unfold = true;
   /// How the holes of an open surface are closed (mesh/boundary.hpp): the
   /// paper's fan cut by 4 flat rings. Against the plain fan, one-way
   /// efficiency / PSNR (257², docs/results-open-surfaces.md): venus_loop2

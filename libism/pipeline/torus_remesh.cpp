@@ -158,12 +158,22 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   // squeezed, in the candidates' coarse maps as in the final refinement.
   tool::Progress& progress = run.stage("map");
   // The variant kept folds fewest grid triangles, then has the best one-way stretch.
-  auto sample_with = [&](const auto& sampler) {
-    return sample_torus_grid(size.columns, size.rows, [&](const TorusPoint& q) {
+  // Folded triangles are re-sampled nearby (unless o.unfold is off) before
+  // a grid is scored or written; `unfolded`, when given, says what that did.
+  auto sample_with = [&](const auto& sampler, UnfoldReport* unfolded = nullptr) {
+    auto at = [&](const TorusPoint& q) {
       const auto s = sampler.surface_point(q.face, q.bary);
       if (!s) throw std::runtime_error("a sample fell outside the map");
       return s->position;
-    });
+    };
+    TorusGrid grid = sample_torus_grid(size.columns, size.rows, at);
+    if (o.unfold) {
+      const UnfoldReport r = unfold_torus_grid(grid, at);
+      if (unfolded) *unfolded = r;
+    } else if (unfolded) {
+      unfolded->folds_before = unfolded->folds_after = torus_grid_flipped_triangles(grid);
+    }
+    return grid;
   };
   auto sample_meta = [&](const MetaMesh& meta) {
     return sample_with(DomainSurfaceSampler(meta, domain));
@@ -232,7 +242,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const MetaMesh& meta = finished.meta;
   const MapMeasures& m = finished.measures;
   TorusRemeshResult result;
-  result.grid = sample_with(*finished.sampler);
+  UnfoldReport unfolded;
+  result.grid = sample_with(*finished.sampler, &unfolded);
   finished.sampler.reset();  // (its index is not needed from here on)
   const TorusGrid& grid = result.grid;
   const QuadMesh& quads = result.quads = torus_grid_mesh(grid);
@@ -263,6 +274,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   gj["rows"] = size.rows;
   gj["efficiency"] = grid_efficiency;
   gj["flipped_triangles"] = flipped;
+  gj["flipped_triangles_at_grid_points"] = unfolded.folds_before;
+  gj["resampled_vertices"] = unfolded.moved_vertices;
   Json& sj = r["remesh"];
   sj["vertices"] = quads.n_vertices();
   sj["faces"] = triangulate ? triangles.n_faces() : quads.n_faces();

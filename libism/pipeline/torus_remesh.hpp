@@ -25,6 +25,10 @@ struct TorusRemeshOptions {
   std::string size = "128";    // "N" (N×N) or "UxV"
   bool triangulate = false;    // write two triangles per grid quad (.glb always does)
   bool no_global_reembedding = false;
+  // Vertices of folded grid triangles re-sampled at nearby parameter points
+  // (unfold_torus_grid(), for every variant scored and for the output);
+  // off (--grid-points): every vertex at its grid point.
+  bool unfold = true;
   // Files written when named: the grid (quads as .obj .ply .off; triangles
   // also as .stl .drc; .glb triangles), the periodic geometry image (.exr),
   // the PLY of the patches.

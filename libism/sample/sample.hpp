@@ -35,6 +35,7 @@
 //    other two. Every grid triangle then lies in one octahedron face (and is
 //    equilateral on the regular octahedron).
 #include "mesh/triangle_mesh.hpp"
+#include "sample/unfold.hpp"
 
 #include <Eigen/Core>
 
@@ -139,5 +140,22 @@ double image_efficiency(const GeometryImage& image, ImageDomain domain);
 /// (itself included), on the welded mesh of image_to_surface_mesh, so neighbours
 /// across the mirrored boundary count. Zero-area triangles are never flipped.
 std::size_t flipped_triangles(const GeometryImage& image);
+
+/// Re-samples the vertices of folded grid triangles of image_to_mesh(image)
+/// (unfold_samples(), unfold.hpp, by their number alone) at nearby square points: a quarter, half
+/// or three quarters of the way towards each of the eight neighbouring pixels of the vertex's first
+/// pixel, clamped into the square (octahedron_point), through
+/// `surface_point` as sample_octahedral() calls it (again for each tried
+/// point; one that throws is not tried). Mirrored pixels keep bit-identical
+/// values. An image with alpha (an open surface's) is left as it is: a
+/// moved sample could cross onto a cap. `moved_to`, when given, receives per
+/// pixel the octahedron point whose image a moved pixel now holds (face -1
+/// for a pixel left at its grid point), so that other attributes (normals)
+/// can be sampled at the same points. folds_before and folds_after are
+/// flipped_triangles() of the image as given and as returned. Throws
+/// std::invalid_argument for a bad image.
+UnfoldReport unfold_geometry_image(GeometryImage& image,
+                                   const std::function<Vec3(const OctahedronPoint&)>& surface_point,
+                                   std::vector<OctahedronPoint>* moved_to = nullptr);
 
 }  // namespace ism

@@ -4,6 +4,7 @@
 // the samples shared along base edges, so the result is watertight and has
 // exact subdivision connectivity (levels times 1-to-4 splits of the base).
 #include "mesh/triangle_mesh.hpp"
+#include "sample/unfold.hpp"
 
 #include <Eigen/Core>
 
@@ -75,14 +76,7 @@ TriangleMesh semiregular_mesh(
 /// indices), with their positions. Returns false otherwise.
 bool unsubdivide(const TriangleMesh& fine, std::size_t base_vertices, TriangleMesh& coarse);
 
-/// What unfold_semiregular() did.
-struct UnfoldReport {
-  std::size_t folds_before = 0;    // flipped_faces() of the mesh as given
-  std::size_t folds_after = 0;     // ... as returned
-  std::size_t moved_vertices = 0;  // vertices sampled elsewhere than their grid point
-};
-
-/// Re-samples the vertices of folded triangles (the test of flipped_faces())
+/// Re-samples the vertices of folded triangles (unfold_samples(), unfold.hpp)
 /// of `mesh`, made by semiregular_mesh(base, levels, point), at nearby points
 /// of the base faces holding them: a quarter, half or three quarters of the
 /// way to one of their grid neighbours. A vertex on the base's boundary (a

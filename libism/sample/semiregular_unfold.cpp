@@ -1,9 +1,8 @@
 // Folded triangles of a semi-regular remesh re-sampled at nearby points of
 // their base face or edge (unfold_semiregular(), semiregular.hpp).
-#include "metrics/metrics.hpp"
 #include "sample/semiregular.hpp"
+#include "sample/unfold.hpp"
 
-#include <algorithm>
 #include <exception>
 #include <stdexcept>
 
@@ -18,23 +17,6 @@ UnfoldReport unfold_semiregular(
     throw std::invalid_argument(
         "unfold_semiregular: the mesh is not the semi-regular mesh of the base at this level");
   const int n = 1 << levels;
-  FoldTest test(mesh);
-  UnfoldReport report;
-  std::vector<std::size_t> scratch, around;
-  auto count_folds = [&](const std::vector<std::size_t>& faces) {
-    std::size_t c = 0;
-    for (std::size_t f : faces) c += test.folded(f, scratch);
-    return c;
-  };
-  auto all_folded = [&] {
-    std::vector<std::size_t> out;
-    for (std::size_t f = 0; f < mesh.n_faces(); ++f)
-      if (test.folded(f, scratch)) out.push_back(f);
-    return out;
-  };
-  const std::vector<Vec3> given = mesh.positions;
-  std::vector<std::size_t> folded = all_folded();
-  report.folds_before = folded.size();
 
   // Which face edges are base boundary edges (edge k: corner k to k + 1),
   // and the faces at each base vertex.
@@ -70,56 +52,30 @@ UnfoldReport unfold_semiregular(
   static constexpr int kDirections[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
   static constexpr double kSteps[3] = {0.25, 0.5, 0.75};
   std::vector<SemiregularSite> sites;
-  for (int round = 0; round < max_rounds && !folded.empty(); ++round) {
-    std::vector<int> vertices;
-    for (std::size_t f : folded)
-      for (int v : mesh.triangles[f]) vertices.push_back(v);
-    std::sort(vertices.begin(), vertices.end());
-    vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
-    bool kept = false;
-    for (int v : vertices) {
-      // The vertex's grid point on each base face holding it.
-      sites.clear();
-      if (std::size_t(v) < nb) {
-        sites = corner_sites[std::size_t(v)];
-      } else {
-        for (const SemiregularSite& s :
-             {layout.sites[std::size_t(v)], layout.second_sites[std::size_t(v)]})
-          if (s.face >= 0) sites.push_back(s);
-      }
-      test.influenced(v, around);
-      std::size_t best = count_folds(around);
-      const Vec3 original = mesh.positions[std::size_t(v)];
-      Vec3 best_position = original;
-      for (double step : kSteps)
-        for (const SemiregularSite& s : sites)
-          for (const auto& d : kDirections) {
-            if (s.i + d[0] < 0 || s.j + d[1] < 0 || s.i + d[0] + s.j + d[1] > n)
-              continue;  // no grid neighbour there
-            // On the base's boundary: along a boundary edge only.
-            if (on_boundary[std::size_t(v)] && !along_boundary(s, d)) continue;
-            Vec3 p;
-            try {
-              p = point(s.face, layout.weights(s.i + step * d[0], s.j + step * d[1]));
-            } catch (const std::exception&) {
-              continue;
-            }
-            mesh.positions[std::size_t(v)] = p;
-            test.update_around(v);
-            const std::size_t c = count_folds(around);
-            if (c < best) best = c, best_position = p;
-          }
-      mesh.positions[std::size_t(v)] = best_position;
-      test.update_around(v);
-      if (best_position != original) kept = true;
+  auto candidates = [&](int v, std::vector<Vec3>& out) {
+    // The vertex's grid point on each base face holding it.
+    sites.clear();
+    if (std::size_t(v) < nb) {
+      sites = corner_sites[std::size_t(v)];
+    } else {
+      for (const SemiregularSite& s :
+           {layout.sites[std::size_t(v)], layout.second_sites[std::size_t(v)]})
+        if (s.face >= 0) sites.push_back(s);
     }
-    if (!kept) break;
-    folded = all_folded();
-  }
-  report.folds_after = folded.size();
-  for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-    report.moved_vertices += mesh.positions[v] != given[v];
-  return report;
+    for (double step : kSteps)
+      for (const SemiregularSite& s : sites)
+        for (const auto& d : kDirections) {
+          if (s.i + d[0] < 0 || s.j + d[1] < 0 || s.i + d[0] + s.j + d[1] > n)
+            continue;  // no grid neighbour there
+          // On the base's boundary: along a boundary edge only.
+          if (on_boundary[std::size_t(v)] && !along_boundary(s, d)) continue;
+          try {
+            out.push_back(point(s.face, layout.weights(s.i + step * d[0], s.j + step * d[1])));
+          } catch (const std::exception&) {
+          }
+        }
+  };
+  return unfold_samples(mesh, candidates, {.max_rounds = max_rounds});
 }
 
 }  // namespace ism

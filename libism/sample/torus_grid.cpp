@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <stdexcept>
 #include <string>
 
@@ -182,6 +183,43 @@ double torus_grid_efficiency(const TorusGrid& grid) {
 
 std::size_t torus_grid_flipped_triangles(const TorusGrid& grid) {
   return flipped_faces(torus_grid_triangles(grid));
+}
+
+UnfoldReport unfold_torus_grid(TorusGrid& grid,
+                               const std::function<Vec3(const TorusPoint&)>& surface_point,
+                               int max_rounds) {
+  check_grid(grid);
+  const int u = grid.columns, v = grid.rows;
+  // The eight grid neighbours' directions (columns, rows).
+  static constexpr int kDirections[8][2] = {{1, 0}, {-1, 0},  {0, 1},  {0, -1},
+                                            {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  static constexpr double kSteps[3] = {0.25, 0.5, 0.75};
+  auto candidates = [&](int x, std::vector<Vec3>& out) {
+    const int row = x / u, col = x % u;
+    for (double step : kSteps)
+      for (const auto& d : kDirections) {
+        try {
+          out.push_back(
+              surface_point(torus_point((col + step * d[0]) / u, (row + step * d[1]) / v)));
+        } catch (const std::exception&) {
+        }
+      }
+  };
+  const std::vector<Vec3> given = grid.points;
+  UnfoldReport report;
+  report.folds_before = report.folds_after = torus_grid_flipped_triangles(grid);
+  for (int pass = 0; pass < 3 && report.folds_after > 0; ++pass) {
+    TriangleMesh mesh = torus_grid_triangles(grid);
+    unfold_samples(mesh, candidates, {.max_rounds = max_rounds, .by_depth = true});
+    TorusGrid moved{grid.columns, grid.rows, std::move(mesh.positions)};
+    const std::size_t folds = torus_grid_flipped_triangles(moved);
+    if (folds >= report.folds_after) break;
+    grid = std::move(moved);
+    report.folds_after = folds;
+  }
+  for (std::size_t x = 0; x < grid.points.size(); ++x)
+    report.moved_vertices += grid.points[x] != given[x];
+  return report;
 }
 
 }  // namespace ism

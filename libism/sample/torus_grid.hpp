@@ -35,6 +35,7 @@
 //    (c+1,r+1), (c,r+1)) the half where y > x.
 #include "mesh/quad_mesh.hpp"
 #include "mesh/triangle_mesh.hpp"
+#include "sample/unfold.hpp"
 
 #include <Eigen/Core>
 
@@ -115,5 +116,22 @@ double torus_grid_efficiency(const TorusGrid& grid);
 /// sharing a vertex with it (itself included), across the wrap too, as
 /// flipped_triangles() in sample.hpp. Zero-area triangles are never flipped.
 std::size_t torus_grid_flipped_triangles(const TorusGrid& grid);
+
+/// Re-samples the points of folded triangles of torus_grid_triangles(grid)
+/// (unfold_samples(), unfold.hpp) at nearby parameter points: a quarter,
+/// half or three quarters of the way towards each of their eight grid
+/// neighbours (across the wrap too), through `surface_point` as
+/// sample_torus_grid() calls it (again for each tried point; one that throws
+/// is not tried). A quad's shorter diagonal may change when its corners
+/// move, so the triangles are made again from the moved points and the
+/// re-sampling repeated while the folds drop (at most three passes of
+/// `max_rounds` rounds); a pass that does not lower
+/// torus_grid_flipped_triangles() is dropped. The grid's layout is
+/// unchanged; every point stays a value of `surface_point`. folds_before and
+/// folds_after are torus_grid_flipped_triangles() of the grid as given and
+/// as returned. Throws std::invalid_argument for a bad grid.
+UnfoldReport unfold_torus_grid(TorusGrid& grid,
+                               const std::function<Vec3(const TorusPoint&)>& surface_point,
+                               int max_rounds = 8);
 
 }  // namespace ism

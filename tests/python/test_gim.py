@@ -168,3 +168,18 @@ def test_the_symmetric_core_is_the_tools_too(meshes, tmp_path):
     assert report["map_core"] == "symmetric" and r.report["map"] == report["map"]
     with pytest.raises(ValueError, match="core must be"):
         ism.gim_remesh(blob, size=SIZE, core="spherical", quiet=True)
+
+
+def test_grid_points_keep_every_pixel_at_its_grid_point(runs, meshes):
+    _, r, _ = runs
+    image = r.report["image"]
+    # Re-sampling folded triangles' pixels never adds a fold.
+    assert image["flipped_triangles"] <= image["flipped_triangles_at_grid_points"]
+    at_grid = ism.gim_remesh(meshes["blob"], size=SIZE, grid_points=True, quiet=True)
+    g = at_grid.report["image"]
+    assert g["resampled_vertices"] == 0
+    assert g["flipped_triangles"] == g["flipped_triangles_at_grid_points"]
+    assert g["flipped_triangles_at_grid_points"] == image["flipped_triangles_at_grid_points"]
+    # The same map, so the pixels that were not re-sampled are the same samples.
+    moved = np.any(r.image != at_grid.image, axis=2)
+    assert moved.sum() <= 4 * image["resampled_vertices"]  # mirrors: a side pixel 2, -z 4

@@ -75,3 +75,14 @@ def test_the_symmetric_core_is_the_tools_too(meshes, tmp_path):
     assert r.report["map"]["global_steps"] == 1
     with pytest.raises(ValueError, match="core must be"):
         ism.torus_remesh(torus, size=(U, V), core="spherical", quiet=True)
+
+
+def test_grid_points_keep_every_vertex_at_its_grid_point(runs, meshes):
+    _, r = runs
+    grid = r.report["grid"]
+    # Re-sampling folded triangles' points never adds a fold.
+    assert grid["flipped_triangles"] <= grid["flipped_triangles_at_grid_points"]
+    at_grid = ism.torus_remesh(meshes["torus"], size=(U, V), grid_points=True, quiet=True)
+    g = at_grid.report["grid"]
+    assert g["resampled_vertices"] == 0
+    assert g["flipped_triangles"] == g["flipped_triangles_at_grid_points"]

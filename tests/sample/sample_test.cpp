@@ -375,6 +375,68 @@ TEST(Sample, FoldedImageHasFlippedTriangles) {
   EXPECT_GT(flipped_triangles(near), 0u);
 }
 
+TEST(Sample, UnfoldReSamplesFoldedPixelsNearby) {
+  const int n = 17;
+  const double pixel = 2.0 / (n - 1);
+  const GeometryImage clean = sample_octahedral(n, on_sphere);
+  // Pixel (5, 5) replaced by the sample 1.6 pixels to its right (past its
+  // neighbour), and a side pixel with its mirror 1.6 pixels along the side.
+  auto folded = [&] {
+    GeometryImage img = clean;
+    const Eigen::Vector2d a = pixel_square_point(n, 5, 5), b = pixel_square_point(n, 0, 4);
+    img.at(5, 5) = on_sphere(octahedron_point(a.x() + 1.6 * pixel, a.y()));
+    img.at(0, 4) = img.at(0, 12) = on_sphere(octahedron_point(b.x() + 1.6 * pixel, b.y()));
+    return img;
+  };
+  GeometryImage img = folded();
+  const std::size_t folds = flipped_triangles(img);
+  ASSERT_GT(folds, 0u);
+  std::vector<OctahedronPoint> moved_to;
+  const UnfoldReport r = unfold_geometry_image(img, on_sphere, &moved_to);
+  EXPECT_EQ(r.folds_before, folds);
+  EXPECT_EQ(r.folds_after, 0u);
+  EXPECT_EQ(flipped_triangles(img), 0u);
+  ASSERT_EQ(moved_to.size(), img.pixels.size());
+  // Mirrored pixels stay one point; a pixel that is not its grid sample holds
+  // the sample of the point it was moved to, within 0.75 pixels (each way) of
+  // its own point or its mirror's; the others were not moved.
+  const std::vector<int> vertex = image_vertex_of_pixel(n);
+  std::map<int, std::vector<std::size_t>> pixels_of;
+  for (std::size_t p = 0; p < vertex.size(); ++p) pixels_of[vertex[p]].push_back(p);
+  std::set<int> moved_vertices;
+  for (std::size_t p = 0; p < img.pixels.size(); ++p) {
+    for (std::size_t q : pixels_of[vertex[p]]) EXPECT_TRUE(bit_equal(img.pixels[p], img.pixels[q]));
+    if (bit_equal(img.pixels[p], clean.pixels[p])) {
+      EXPECT_EQ(moved_to[p].face, -1) << p;
+      continue;
+    }
+    moved_vertices.insert(vertex[p]);
+    ASSERT_GE(moved_to[p].face, 0) << p;
+    EXPECT_TRUE(bit_equal(on_sphere(moved_to[p]), img.pixels[p])) << p;
+    const Eigen::Vector2d at = square_point(moved_to[p].face, moved_to[p].bary);
+    double nearest = HUGE_VAL;
+    for (std::size_t q : pixels_of[vertex[p]]) {
+      const Eigen::Vector2d own = pixel_square_point(n, int(q) / n, int(q) % n);
+      nearest = std::min(nearest, (at - own).lpNorm<Eigen::Infinity>());
+    }
+    EXPECT_LE(nearest, 0.75 * pixel + 1e-12) << p;
+  }
+  EXPECT_EQ(r.moved_vertices, moved_vertices.size());
+  EXPECT_GE(moved_to[5 * n + 5].face, 0);
+  EXPECT_GE(moved_to[4].face, 0);
+
+  // An image without folds, or one with alpha (an open surface's), is left as it is.
+  GeometryImage same = clean;
+  EXPECT_EQ(unfold_geometry_image(same, on_sphere).moved_vertices, 0u);
+  EXPECT_EQ(
+      std::memcmp(same.pixels.data(), clean.pixels.data(), clean.pixels.size() * sizeof(Vec3)), 0);
+  GeometryImage open = folded();
+  open.alpha.assign(open.pixels.size(), 1.0f);
+  const UnfoldReport kept = unfold_geometry_image(open, on_sphere);
+  EXPECT_EQ(kept.folds_after, folds);
+  EXPECT_EQ(kept.moved_vertices, 0u);
+}
+
 // A sphere image with a cap: alpha 0 on the pixels whose sample lies within
 // 0.5 of the north pole (the +z end of the sphere: the centre of the image).
 GeometryImage sphere_with_cap(int n) {

@@ -219,6 +219,64 @@ TEST(TorusGrid, AnalyticTorusMeasures) {
   EXPECT_GT(torus_grid_flipped_triangles(folded), 0u);
 }
 
+// The 16 × 16 grid of the analytic torus with point (row 0, column 5)
+// moved past its next neighbour along s (to column 6.6): folded.
+TorusGrid folded_grid() {
+  TorusGrid grid = sample_torus_grid(16, 16, analytic_torus);
+  const double theta = 2 * M_PI * 6.6 / 16;
+  grid.at(0, 5) = Vec3(3 * std::cos(theta), 3 * std::sin(theta), 0);
+  return grid;
+}
+
+TEST(TorusGrid, UnfoldReSamplesFoldedPointsAtNearbyParameterPoints) {
+  const TorusGrid clean = sample_torus_grid(16, 16, analytic_torus);
+  TorusGrid grid = folded_grid();
+  const std::size_t folds = torus_grid_flipped_triangles(grid);
+  ASSERT_GT(folds, 0u);
+  const UnfoldReport r = unfold_torus_grid(grid, analytic_torus);
+  EXPECT_EQ(r.folds_before, folds);
+  EXPECT_EQ(r.folds_after, 0u);
+  EXPECT_EQ(torus_grid_flipped_triangles(grid), 0u);
+  ASSERT_EQ(grid.points.size(), clean.points.size());
+  // Every point that is not its grid point's sample is exactly the sample of
+  // a point a quarter, half or three quarters of the way to a grid
+  // neighbour (the wrong point among them: it had to move).
+  std::size_t moved = 0;
+  for (int row = 0; row < 16; ++row)
+    for (int col = 0; col < 16; ++col) {
+      const Vec3& p = grid.at(row, col);
+      if (p == clean.at(row, col)) continue;
+      ++moved;
+      bool candidate = false;
+      for (double step : {0.25, 0.5, 0.75})
+        for (int dc = -1; dc <= 1; ++dc)
+          for (int dr = -1; dr <= 1; ++dr)
+            candidate |=
+                (dc != 0 || dr != 0) && p == analytic_torus(torus_point((col + step * dc) / 16.0,
+                                                                        (row + step * dr) / 16.0));
+      EXPECT_TRUE(candidate) << row << " " << col;
+    }
+  EXPECT_GE(moved, 1u);
+  EXPECT_EQ(r.moved_vertices, moved);
+  EXPECT_NE(grid.at(0, 5), folded_grid().at(0, 5));
+
+  // A grid without folds is left as it is.
+  TorusGrid same = clean;
+  const UnfoldReport none = unfold_torus_grid(same, analytic_torus);
+  EXPECT_EQ(none.folds_before, 0u);
+  EXPECT_EQ(none.folds_after, 0u);
+  EXPECT_EQ(none.moved_vertices, 0u);
+  EXPECT_EQ(
+      std::memcmp(same.points.data(), clean.points.data(), clean.points.size() * sizeof(Vec3)), 0);
+
+  // Where no nearby point can be sampled (the map throws), nothing moves.
+  TorusGrid stuck = folded_grid();
+  const UnfoldReport kept = unfold_torus_grid(
+      stuck, [](const TorusPoint&) -> Vec3 { throw std::runtime_error("outside the map"); });
+  EXPECT_EQ(kept.folds_after, folds);
+  EXPECT_EQ(kept.moved_vertices, 0u);
+}
+
 // The torus R = 2, r = 1 sampled 6 × 4, column 1 shifted by one row along
 // the tube: the quads are mirror-symmetric trapezoids (a tie, split along
 // a–c) except beside column 1, where b–d is the shorter diagonal of some.

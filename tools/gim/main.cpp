@@ -32,10 +32,14 @@ int main(int argc, char** argv) {
   app.add_option("--cap-height", o.cap.height,
                  "Open surfaces: the cap's dome height, times the hole's radius (default 0: flat)")
       ->check(CLI::Range(0.0, 4.0));
+  bool grid_points = false;
+  app.add_flag("--grid-points", grid_points,
+               "Every pixel at its grid point: folded triangles are not re-sampled nearby");
   app.add_option("--mask", o.mask, "PNG mask of an open surface: 255 on the surface, 0 on a cap");
   app.add_option("--dump-patches", o.dump_patches, "PLY of the path network's patches");
   tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
+  o.unfold = !grid_points;
   return tool::run_main("gim-remesh", [&] {
     tool::Run run("gim-remesh", common);
     pipeline::gim_remesh(run, o);

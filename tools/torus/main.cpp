@@ -25,9 +25,13 @@ int main(int argc, char** argv) {
   tool::add_core_option(app, o.map, RefineOptions{}.reembed_max_vertices);
   app.add_flag("--no-global-reembedding", o.no_global_reembedding,
                "Optimise one vertex at a time only (no global flat-torus re-embeddings)");
+  bool grid_points = false;
+  app.add_flag("--grid-points", grid_points,
+               "Every vertex at its grid point: folded triangles are not re-sampled nearby");
   tool::add_mesh_file_options(app, o.mesh_file);
   tool::add_common_options(app, common);
   CLI11_PARSE(app, argc, argv);
+  o.unfold = !grid_points;
   return tool::run_main("torus-remesh", [&] {
     tool::Run run("torus-remesh", common);
     pipeline::torus_remesh(run, o);
