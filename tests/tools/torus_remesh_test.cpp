@@ -199,7 +199,7 @@ TEST(TorusRemesh, SharedRockerArmGivenFeatures) {
 // teapot and mug fold grid triangles at their grid points where skinny
 // images of the grid cells cross the sharp bends at the handles' roots;
 // re-sampled nearby, their best maps are fold-free (teapot 9 -> 0, mug
-// 10 -> 0) and the anisotropy fallback variants no longer run (it had cost
+// 10 -> 0) and kept over the anisotropy fallback variants (which had cost
 // teapot 0.458 -> 0.444, mug 0.517 -> 0.489). The efficiencies need the
 // global re-embeddings: vertex-at-a-time alone gave teapot 0.353, mug
 // 0.142, cup 0.407.
