@@ -40,17 +40,19 @@ void FoldTest::ring(std::size_t f, std::vector<std::size_t>& out) const {
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
-bool FoldTest::folded(std::size_t f, std::vector<std::size_t>& scratch) const {
+Vec3 FoldTest::ring_normal(std::size_t f, std::vector<std::size_t>& scratch) const {
   ring(f, scratch);
   Vec3 sum = Vec3::Zero();
   for (std::size_t g : scratch) sum += normal_[g];
-  return normal_[f].dot(sum) < 0.0;
+  return sum;
+}
+
+bool FoldTest::folded(std::size_t f, std::vector<std::size_t>& scratch) const {
+  return normal_[f].dot(ring_normal(f, scratch)) < 0.0;
 }
 
 double FoldTest::fold_depth(std::size_t f, std::vector<std::size_t>& scratch) const {
-  ring(f, scratch);
-  Vec3 sum = Vec3::Zero();
-  for (std::size_t g : scratch) sum += normal_[g];
+  const Vec3 sum = ring_normal(f, scratch);
   const double scale = normal_[f].norm() * sum.norm();
   if (!(scale > 0)) return 0.0;
   return std::max(0.0, -normal_[f].dot(sum) / scale);

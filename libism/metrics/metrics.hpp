@@ -153,6 +153,8 @@ class FoldTest {
   void update_around(int v);
 
  private:
+  // The sum of the area-weighted normals of the faces sharing a vertex with f.
+  Vec3 ring_normal(std::size_t f, std::vector<std::size_t>& scratch) const;
   const TriangleMesh& mesh_;
   std::vector<std::size_t> start_, faces_;  // faces around each vertex (rows)
   std::vector<Vec3> normal_;                // area-scaled

@@ -157,36 +157,39 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   // (refine/flat_reembedding.hpp) open what single-vertex moves leave
   // squeezed, in the candidates' coarse maps as in the final refinement.
   tool::Progress& progress = run.stage("map");
-  // The variant kept folds fewest grid triangles, then has the best one-way stretch.
   // Folded triangles are re-sampled nearby (unless o.unfold is off) before
-  // a grid is scored or written; `unfolded`, when given, says what that did.
-  auto sample_with = [&](const auto& sampler, UnfoldReport* unfolded = nullptr) {
+  // a grid is scored or written.
+  struct Sampled {
+    TorusGrid grid;
+    UnfoldReport unfolded;  // folds_after: the grid's flipped triangles
+  };
+  auto sample_with = [&](const auto& sampler) {
     auto at = [&](const TorusPoint& q) {
       const auto s = sampler.surface_point(q.face, q.bary);
       if (!s) throw std::runtime_error("a sample fell outside the map");
       return s->position;
     };
-    TorusGrid grid = sample_torus_grid(size.columns, size.rows, at);
+    Sampled out{sample_torus_grid(size.columns, size.rows, at), {}};
     if (o.unfold) {
-      const UnfoldReport r = unfold_torus_grid(grid, at);
-      if (unfolded) *unfolded = r;
-    } else if (unfolded) {
-      unfolded->folds_before = unfolded->folds_after = torus_grid_flipped_triangles(grid);
+      out.unfolded = unfold_torus_grid(out.grid, at);
+    } else {
+      out.unfolded.folds_before = out.unfolded.folds_after = torus_grid_flipped_triangles(out.grid);
     }
-    return grid;
+    return out;
   };
   auto sample_meta = [&](const MetaMesh& meta) {
     return sample_with(DomainSurfaceSampler(meta, domain));
   };
   // (A variant's map that does not validate scores lowest; the epilogue
   // says why if it is kept.)
-  auto sample = [&](const SurfaceMap& map) -> std::optional<TorusGrid> {
+  auto sample = [&](const SurfaceMap& map) -> std::optional<Sampled> {
     const std::optional<MetaMesh> meta = meta_mesh(map);
     if (!meta) return std::nullopt;
     return sample_meta(*meta);
   };
-  auto grid_score = [](const TorusGrid& grid) {
-    return torus_grid_efficiency(grid) - double(torus_grid_flipped_triangles(grid));
+  // The variant kept folds fewest grid triangles, then has the best one-way stretch.
+  auto grid_score = [](const Sampled& s) {
+    return torus_grid_efficiency(s.grid) - double(s.unfolded.folds_after);
   };
   // Every variant ranks the same networks: their progressive meshes are
   // built once.
@@ -218,8 +221,8 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
         return rank_networks(shared, options, 1000, coarse, count);
       },
       [&](const SurfaceMap& map) {
-        const std::optional<TorusGrid> grid = sample(map);
-        return grid ? grid_score(*grid) : -HUGE_VAL;
+        const std::optional<Sampled> sampled = sample(map);
+        return sampled ? grid_score(*sampled) : -HUGE_VAL;
       });
   const auto& chosen = staged.setup;
   run.report()["partition"] = partition_report(chosen->network(), torus, chosen->pm());
@@ -242,8 +245,9 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   const MetaMesh& meta = finished.meta;
   const MapMeasures& m = finished.measures;
   TorusRemeshResult result;
-  UnfoldReport unfolded;
-  result.grid = sample_with(*finished.sampler, &unfolded);
+  Sampled sampled = sample_with(*finished.sampler);
+  const UnfoldReport unfolded = sampled.unfolded;
+  result.grid = std::move(sampled.grid);
   finished.sampler.reset();  // (its index is not needed from here on)
   const TorusGrid& grid = result.grid;
   const QuadMesh& quads = result.quads = torus_grid_mesh(grid);
@@ -265,7 +269,7 @@ TorusRemeshResult torus_remesh(tool::Run& run, const TorusRemeshOptions& o) {
   run.stage("measure");
   const SurfaceDistance distance = surface_distance(surface, triangles);
   const double grid_efficiency = torus_grid_efficiency(grid);
-  const std::size_t flipped = torus_grid_flipped_triangles(grid);
+  const std::size_t flipped = unfolded.folds_after;
   Json& r = run.report();
   r["metric"] = "right-isosceles";
   r["map"] = finished.report;

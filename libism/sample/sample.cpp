@@ -294,57 +294,46 @@ UnfoldReport unfold_geometry_image(GeometryImage& image,
                                    std::vector<OctahedronPoint>* moved_to) {
   check_image(image);
   const int n = image.n;
+  if (moved_to) moved_to->assign(image.pixels.size(), OctahedronPoint{.face = -1});
+  if (!image.alpha.empty()) {
+    const std::size_t folds = flipped_triangles(image);
+    return {.folds_before = folds, .folds_after = folds};
+  }
   const std::vector<int> vertex = image_vertex_of_pixel(n);
   TriangleMesh mesh = image_to_mesh(image);
   // Each vertex's first pixel (row-major), where its samples are placed.
   std::vector<std::size_t> first(mesh.n_vertices(), 0);
   for (std::size_t p = vertex.size(); p-- > 0;) first[std::size_t(vertex[p])] = p;
-  if (moved_to) moved_to->assign(vertex.size(), OctahedronPoint{.face = -1});
-  if (!image.alpha.empty()) {
-    const std::size_t folds = flipped_triangles(image);
-    return {.folds_before = folds, .folds_after = folds};
-  }
   // The eight neighbouring pixels' directions (columns, rows) and the steps towards them.
   static constexpr int kDirections[8][2] = {{1, 0}, {-1, 0},  {0, 1},  {0, -1},
                                             {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   static constexpr double kSteps[3] = {0.25, 0.5, 0.75};
   const double pixel = 2.0 / (n - 1);
-  auto points = [&](int v, std::vector<OctahedronPoint>& out) {
+  // The points each vertex's candidates were sampled at (those that threw left out).
+  std::vector<std::vector<OctahedronPoint>> offered(mesh.n_vertices());
+  auto candidates = [&](int v, std::vector<Vec3>& out) {
     const std::size_t p = first[std::size_t(v)];
     const Eigen::Vector2d uv = pixel_square_point(n, int(p) / n, int(p) % n);
+    std::vector<OctahedronPoint>& points = offered[std::size_t(v)];
+    points.clear();
     for (double step : kSteps)
-      for (const auto& d : kDirections)
-        out.push_back(octahedron_point(uv.x() + step * pixel * d[0], uv.y() - step * pixel * d[1]));
-  };
-  std::vector<OctahedronPoint> tried;
-  auto candidates = [&](int v, std::vector<Vec3>& out) {
-    tried.clear();
-    points(v, tried);
-    for (const OctahedronPoint& q : tried) {
-      try {
-        out.push_back(surface_point(q));
-      } catch (const std::exception&) {
-      }
-    }
-  };
-  const UnfoldReport report = unfold_samples(mesh, candidates);
-  for (std::size_t p = 0; p < vertex.size(); ++p) {
-    const int v = vertex[p];
-    if (mesh.positions[std::size_t(v)] == image.pixels[p]) continue;
-    image.pixels[p] = mesh.positions[std::size_t(v)];
-    if (!moved_to) continue;
-    // The point the vertex moved to: the candidate with its new value.
-    tried.clear();
-    points(v, tried);
-    for (const OctahedronPoint& q : tried) {
-      try {
-        if (surface_point(q) == mesh.positions[std::size_t(v)]) {
-          (*moved_to)[p] = q;
-          break;
+      for (const auto& d : kDirections) {
+        const OctahedronPoint q =
+            octahedron_point(uv.x() + step * pixel * d[0], uv.y() - step * pixel * d[1]);
+        try {
+          out.push_back(surface_point(q));
+          points.push_back(q);
+        } catch (const std::exception&) {
         }
-      } catch (const std::exception&) {
       }
-    }
+  };
+  std::vector<int> chosen;
+  const UnfoldReport report = unfold_samples(mesh, candidates, {}, &chosen);
+  for (std::size_t p = 0; p < vertex.size(); ++p) {
+    const std::size_t v = std::size_t(vertex[p]);
+    if (chosen[v] < 0) continue;
+    image.pixels[p] = mesh.positions[v];
+    if (moved_to) (*moved_to)[p] = offered[v][std::size_t(chosen[v])];
   }
   return report;
 }

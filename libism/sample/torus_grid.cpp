@@ -207,10 +207,13 @@ UnfoldReport unfold_torus_grid(TorusGrid& grid,
   };
   const std::vector<Vec3> given = grid.points;
   UnfoldReport report;
-  report.folds_before = report.folds_after = torus_grid_flipped_triangles(grid);
-  for (int pass = 0; pass < 3 && report.folds_after > 0; ++pass) {
+  for (int pass = 0; pass < 3; ++pass) {
     TriangleMesh mesh = torus_grid_triangles(grid);
-    unfold_samples(mesh, candidates, {.max_rounds = max_rounds, .by_depth = true});
+    const UnfoldReport r =
+        unfold_samples(mesh, candidates, {.max_rounds = max_rounds, .by_depth = true});
+    // (The first pass's folds before are the grid's, counted on its triangles.)
+    if (pass == 0) report.folds_before = report.folds_after = r.folds_before;
+    if (r.moved_vertices == 0) break;
     TorusGrid moved{grid.columns, grid.rows, std::move(mesh.positions)};
     const std::size_t folds = torus_grid_flipped_triangles(moved);
     if (folds >= report.folds_after) break;

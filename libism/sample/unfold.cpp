@@ -9,7 +9,7 @@ namespace ism {
 
 UnfoldReport unfold_samples(TriangleMesh& mesh,
                             const std::function<void(int v, std::vector<Vec3>& out)>& candidates,
-                            const UnfoldOptions& options) {
+                            const UnfoldOptions& options, std::vector<int>* chosen) {
   FoldTest test(mesh);
   UnfoldReport report;
   std::vector<std::size_t> scratch, around;
@@ -44,6 +44,7 @@ UnfoldReport unfold_samples(TriangleMesh& mesh,
   std::vector<std::size_t> folded = all_folded();
   report.folds_before = folded.size();
   std::vector<Vec3> tries;
+  if (chosen) chosen->assign(mesh.n_vertices(), -1);
   for (int round = 0; round < options.max_rounds && !folded.empty(); ++round) {
     std::vector<int> vertices;
     for (std::size_t f : folded)
@@ -58,7 +59,9 @@ UnfoldReport unfold_samples(TriangleMesh& mesh,
       Folds best = count_folds(around);
       const Vec3 original = mesh.positions[std::size_t(v)];
       Vec3 best_position = original;
-      for (const Vec3& p : tries) {
+      int best_index = -1;
+      for (std::size_t k = 0; k < tries.size(); ++k) {
+        const Vec3& p = tries[k];
         // Never onto a neighbour (two vertices moved towards each other by
         // half a step would meet): the mesh would weld there.
         bool on_neighbour = false;
@@ -69,11 +72,14 @@ UnfoldReport unfold_samples(TriangleMesh& mesh,
         mesh.positions[std::size_t(v)] = p;
         test.update_around(v);
         const Folds c = count_folds(around);
-        if (c < best) best = c, best_position = p;
+        if (c < best) best = c, best_position = p, best_index = int(k);
       }
       mesh.positions[std::size_t(v)] = best_position;
       test.update_around(v);
-      if (best_position != original) kept = true;
+      if (best_position != original) {
+        kept = true;
+        if (chosen) (*chosen)[std::size_t(v)] = best_index;
+      }
     }
     if (!kept) break;
     folded = all_folded();
