@@ -273,9 +273,7 @@ MapSurfacesResult map_surfaces(tool::Run& run, const MapSurfacesOptions& o) {
   refine.race_level_sweeps = o.race_level_sweeps;
   refine.local_relaxation_gain = schedule.relaxation_gain;
   refine.release_features_at = o.hold_features ? -1 : o.release_features_at;
-  refine.fine_search = {1e-3, 1};
-  refine.search.model_seed = refine.fine_search.model_seed = true;
-  refine.fine_split_placement = {1, refine.fine_search};
+  use_fast_searches(refine);
   refine.relax_from_movers = true;
   // (A split that finds no place waits for the other side to grow by a
   // tenth: teapot <-> cup held maps so; docs/results-ism.md, stop 90.)
