@@ -174,10 +174,9 @@ struct SurfaceRefineOptions {
 /// line search seeded by the energy's quadratic model, the fine levels
 /// (from `fine_search_from`) searched in one round to 1e-3 of the ring's
 /// size, and their splits placed after the first halving with that search
-/// (the ring's optimisation soon after moves the vertex again). About half
-/// the evaluations of the defaults at the same energy within noise
-/// (docs/results-ism.md, stops 71, 73 and 89; the remeshers:
-/// docs/results-two-surfaces.md, stop 92).
+/// (the ring's optimisation soon after moves the vertex again). Leaves
+/// every other option as it is (measured: docs/results-ism.md, stops 71,
+/// 73, 89; docs/results-two-surfaces.md, stop 92).
 inline void use_fast_searches(SurfaceRefineOptions& options) {
   options.fine_search = {1e-3, 1};
   options.search.model_seed = options.fine_search.model_seed = true;

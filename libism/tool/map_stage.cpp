@@ -107,8 +107,7 @@ void refine_symmetric(MapStageResult& result, const MapVariant& variant,
   // 24.3 s planned, 16.1 and 16.4 s not; results-two-surfaces.md, stop 62).
   refine_options.threads = 1;
   refine_options.after_level = after_level;
-  // ism-map's searches: the refinement 10-30 % faster, the outputs level
-  // within their noise (docs/results-two-surfaces.md, stop 92).
+  // ism-map's searches (docs/results-two-surfaces.md, stop 92).
   use_fast_searches(refine_options);
   try {
     result.symmetric_stats = refine_surfaces(*result.symmetric, refine_options);
