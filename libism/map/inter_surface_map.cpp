@@ -72,7 +72,7 @@ InterSurfaceMap::InterSurfaceMap(MapSideInput side0, MapSideInput side1,
     for (std::size_t f = 0; f < side.faces.size(); ++f)
       side.lengths.push_back(in.positions.empty() ? in.base_lengths[f]
                                                   : face_lengths(s, side.faces[f]));
-    if (!build_edges(side)) throw std::invalid_argument("a base mesh is not a closed manifold");
+    if (!build_edges(side, true)) throw std::invalid_argument("a base mesh is not a manifold");
     side.crossings.assign(side.edges.size(), {});
   }
   // Base face f of both sides: the same base vertices in the same order.
@@ -302,12 +302,16 @@ void InterSurfaceMap::set_location(int s, int v, const MetaLocation& loc, Edit* 
   touch_vertex(s, v);
   touch_location(s, current);
   touch_location(s, loc);
-  if (current.face >= 0)
+  if (current.on_edge())
+    remove_on_edge(index_, s, v, current.edge);
+  else if (current.face >= 0)
     remove_resident(index_, s, v, current.face);
   else if (current.vertex >= 0)
     remove_lodger(index_, s, v, current.vertex);
   current = loc;
-  if (current.face >= 0)
+  if (current.on_edge())
+    add_on_edge(index_, meta_, s, v, current.edge);
+  else if (current.face >= 0)
     add_resident(index_, s, v, current.face);
   else if (current.vertex >= 0)
     add_lodger(index_, s, v, current.vertex);

@@ -153,7 +153,9 @@ class InterSurfaceMap {
 
  public:
   /// The trivial map between the two base meshes (same connectivity, base
-  /// vertex i of one on base vertex i of the other, no crossing). Throws
+  /// vertex i of one on base vertex i of the other, no crossing). The bases
+  /// may have boundaries (an open map, meta_mesh.hpp): their boundary edges
+  /// then coincide. Throws
   /// std::invalid_argument if the base meshes differ, a metric is missing or
   /// the forward density has the wrong size.
   InterSurfaceMap(MapSideInput side0, MapSideInput side1, InterSurfaceOptions options = {});
@@ -195,7 +197,11 @@ class InterSurfaceMap {
   /// and the rings keep widening through kSplitRounds of them (a split the
   /// first round places is placed as with one round). After the last it
   /// throws std::runtime_error, the map still valid at the split before.
-  /// A held feature (a pinned vertex) is never moved by a split. The
+  /// A held feature (a pinned vertex) is never moved by a split. On an open
+  /// map (sides with boundaries) a split at the boundary (of a boundary
+  /// vertex, or of one with a boundary edge in its ring) throws
+  /// std::runtime_error before anything changes: open maps are refined
+  /// only away from their boundaries yet. The
   /// candidate places are evaluated in parallel (TBB, in the calling
   /// thread's arena); the result does not depend on the number of threads.
   int split_next(int side);
@@ -211,7 +217,8 @@ class InterSurfaceMap {
   /// inside the kernel of its one-ring in a chart (newton_in_kernel in a
   /// fast chart, smooth_ring; LineSearch::parabolic line searches in the
   /// others); kept only if the map stays valid and the energy drops.
-  /// Returns the gain.
+  /// Returns the gain. On an open map, boundary vertices and vertices with
+  /// a boundary edge in their ring are not charted yet and stay (gain 0).
   double optimize_vertex(int side, int v);
 
   /// An optimisation of one vertex worked out ahead (plan_vertex) and

@@ -259,6 +259,12 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
                                                       : IS.edge(chart.ring[i], next));
   }
   if (ring_only) return true;
+  // An open map: a ring with an edge on the boundary is not charted (the
+  // other side's vertices on that edge and their edges into the ring are
+  // not laid out yet), so its centre stays where it is.
+  if (IS.open)
+    for (int e : chart.boundary)
+      if (e < 0 || IS.is_boundary(e)) return chart_fail(19);
   const MetaLocation& vloc = S.location[v];
 
   // Fast path: the ring and everything in it inside one face of t.
@@ -1943,6 +1949,7 @@ int InterSurfaceMap::add_edge(int s, int u, int v) {
   side.crossings.emplace_back();
   index_[s].edge_of[undirected_edge_key(u, v)] = e;
   index_[s].edge_faces.push_back({-1, -1});
+  if (index_[s].open) index_[s].on_edge.emplace_back();
   index_[s].vertex_edges[u].push_back(e);
   index_[s].vertex_edges[v].push_back(e);
   return e;
@@ -2202,6 +2209,7 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
   S.edges.resize(u.n_edges);
   S.crossings.resize(u.n_edges);
   IS.edge_faces.resize(u.n_edges);
+  if (IS.open) IS.on_edge.resize(u.n_edges);
   for (const auto& r : u.faces) {
     S.faces[r.face] = r.corners;
     S.lengths[r.face] = r.lengths;
@@ -2224,6 +2232,21 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
 
 int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
+  if (index_[s].open) {
+    // Open maps refine only away from the boundary yet: a split at it (of a
+    // boundary vertex, or of one whose ring has a boundary edge) is refused
+    // before anything changes.
+    const VertexSplit& sp = input_[s].splits[next_split_[s]];
+    bool at_boundary = ring_faces(s, sp.vt).empty();
+    for (int f : index_[s].vertex_faces[sp.vt])
+      for (int e : meta_.side[s].face_edges[f])
+        at_boundary = at_boundary || index_[s].is_boundary(e);
+    if (at_boundary)
+      throw std::runtime_error(std::string(s == 0 ? "M¹" : "M²") + " split " +
+                               std::to_string(next_split_[s]) + " (vertex " +
+                               std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
+                               "): a split at the boundary, which open maps do not refine yet");
+  }
   for (int attempt = 0;; ++attempt) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
     // are refused but in the last attempt of each round: such a piece is

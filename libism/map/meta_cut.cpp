@@ -51,16 +51,24 @@ MetaIndex build_index(const MetaMesh& meta) {
         ix.edge_faces[e][side.faces[f][k] == side.edges[e][0] ? 0 : 1] = int(f);
         ix.vertex_faces[side.faces[f][k]].push_back(int(f));
       }
+    for (const auto& faces : ix.edge_faces) ix.open = ix.open || faces[0] < 0 || faces[1] < 0;
   }
+  for (int s = 0; s < 2; ++s)
+    if (index[s].open) index[s].on_edge.assign(meta.side[s].edges.size(), {});
   for (int s = 0; s < 2; ++s) {
     const MetaSide& other = meta.side[1 - s];
     for (std::size_t v = 0; v < other.n_vertices(); ++v) {
       const int f = other.location[v].face, x = other.location[v].vertex;
-      if (f >= 0 && std::size_t(f) < index[s].residents.size())
+      if (const int e = other.location[v].edge; e >= 0) {  // (validate refuses it if not open)
+        if (std::size_t(e) < index[s].on_edge.size()) index[s].on_edge[e].push_back(int(v));
+      } else if (f >= 0 && std::size_t(f) < index[s].residents.size())
         index[s].residents[f].push_back(int(v));
       else if (f < 0 && x >= 0 && std::size_t(x) < index[s].lodgers.size())
         index[s].lodgers[x].push_back(int(v));
     }
+    for (auto& list : index[s].on_edge)
+      std::stable_sort(list.begin(), list.end(),
+                       [&](int a, int b) { return other.location[a].t < other.location[b].t; });
   }
   return index;
 }
@@ -74,6 +82,20 @@ void remove_resident(MetaIndex& index, int side, int v, int face) {
   // Order kept (charts list a face's residents in it); a face of an
   // abstract domain holds thousands, so one search and one block move.
   auto& list = index[1 - side].residents[face];
+  if (auto it = std::find(list.begin(), list.end(), v); it != list.end()) list.erase(it);
+}
+
+void add_on_edge(MetaIndex& index, const MetaMesh& meta, int side, int v, int e) {
+  auto& list = index[1 - side].on_edge[e];
+  const auto& location = meta.side[side].location;
+  const double t = location[v].t;
+  list.insert(std::upper_bound(list.begin(), list.end(), t,
+                               [&](double x, int w) { return x < location[w].t; }),
+              v);
+}
+
+void remove_on_edge(MetaIndex& index, int side, int v, int e) {
+  auto& list = index[1 - side].on_edge[e];
   if (auto it = std::find(list.begin(), list.end(), v); it != list.end()) list.erase(it);
 }
 
@@ -95,6 +117,9 @@ MetaNode vertex_node(const MetaMesh& meta, int side, int v) {
   if (loc.vertex >= 0) {
     n.key = {0, 0, side == 0 ? v : loc.vertex, 0};
     n.place[1 - side] = {Place::vertex, loc.vertex, 0, Eigen::Vector3d::Zero()};
+  } else if (loc.on_edge()) {
+    n.key = {0, side, v, 0};
+    n.place[1 - side] = {Place::edge, loc.edge, loc.t, Eigen::Vector3d::Zero()};
   } else {
     n.key = {0, side, v, 0};
     n.place[1 - side] = {Place::face, loc.face, 0, loc.bary};
@@ -269,6 +294,9 @@ bool whole_face(const MetaMesh& meta, const MetaIndex& index, int s, int f,
         index[s].residents[f].empty() && S.crossings[S.face_edges[f][0]].empty() &&
         S.crossings[S.face_edges[f][1]].empty() && S.crossings[S.face_edges[f][2]].empty()))
     return false;
+  if (index[s].open)
+    for (int e : S.face_edges[f])
+      if (!index[s].on_edge[e].empty()) return false;
   const MetaSide& T = meta.side[1 - s];
   const std::array<Vec2, 3> Lh = meta_face_layout(T.lengths[h]);
   const int first = tri[0] < tri[1] ? (tri[0] < tri[2] ? 0 : 2) : (tri[1] < tri[2] ? 1 : 2);
@@ -336,6 +364,9 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
     return std::optional<std::string>(face_name(s, f) + ": " + why);
   };
   thread_local MetaPiece piece;
+  // An open map: both sides have boundaries (a map with one open side does
+  // not validate: its boundary vertices find no boundary to lie on).
+  const bool open = index[s].open && index[1 - s].open;
 
   if (WholeFace whole; whole_face(meta, index, s, f, L, whole)) {
     piece.nodes.assign(whole.nodes.begin(), whole.nodes.end());
@@ -377,6 +408,17 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
     const bool forward = S.faces[f][k] == S.edges[e][0];
     const Vec2 &p = L[k], &q = L[(k + 1) % 3];
     int previous = add(vertex_node(meta, s, S.faces[f][k]), p);
+    // The other side's vertices on a boundary edge (an open map's; such an
+    // edge has no break points).
+    if (open) {
+      const auto& lying = index[s].on_edge[e];
+      for (std::size_t i = 0; i < lying.size(); ++i) {
+        const MetaNode node = vertex_node(meta, 1 - s, lying[forward ? i : lying.size() - 1 - i]);
+        const int id = add(node, *place_in_layout(S, f, L, node.place[s]));
+        segments.push_back({previous, id});
+        previous = id;
+      }
+    }
     const auto& list = S.crossings[e];
     for (std::size_t i = 0; i < list.size(); ++i) {
       const int n = int(forward ? i : list.size() - 1 - i);
@@ -404,6 +446,15 @@ std::optional<std::string> visit_pieces(const MetaMesh& meta, const MetaIndex& i
     if (const int x = S.location[v].vertex; x >= 0)
       candidates.insert(candidates.end(), index[1 - s].vertex_edges[x].begin(),
                         index[1 - s].vertex_edges[x].end());
+  if (open) {
+    for (int e : S.face_edges[f])
+      for (int x : index[s].on_edge[e])
+        candidates.insert(candidates.end(), index[1 - s].vertex_edges[x].begin(),
+                          index[1 - s].vertex_edges[x].end());
+    // The other side's boundary edges lie on this side's boundary (validate
+    // checks the locations that make it so), which the loop above holds.
+    std::erase_if(candidates, [&](int g) { return index[1 - s].is_boundary(g); });
+  }
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 

@@ -33,6 +33,12 @@ struct MetaSideIndex {
   std::vector<std::vector<int>> residents;
   /// Per vertex: the vertices of the other side located on it.
   std::vector<std::vector<int>> lodgers;
+  /// Whether the side has boundary edges (an open map). Only then is
+  /// on_edge kept (InterSurfaceMap maps closed sides and keeps it empty).
+  bool open = false;
+  /// Per edge: the vertices of the other side located on it (an open map's
+  /// boundary edges), by increasing parameter from the edge's first vertex.
+  std::vector<std::vector<int>> on_edge;
   /// Undirected edge key (undirected_edge_key) -> edge.
   std::unordered_map<std::uint64_t, int> edge_of;
 
@@ -40,6 +46,8 @@ struct MetaSideIndex {
     auto it = edge_of.find(undirected_edge_key(u, v));
     return it == edge_of.end() ? -1 : it->second;
   }
+  /// Whether edge e has one face only (a side of an open map).
+  bool is_boundary(int e) const { return edge_faces[e][0] < 0 || edge_faces[e][1] < 0; }
 };
 using MetaIndex = std::array<MetaSideIndex, 2>;
 
@@ -49,6 +57,10 @@ MetaIndex build_index(const MetaMesh& meta);
 /// in that face's residents.
 void add_resident(MetaIndex& index, int side, int v, int face);
 void remove_resident(MetaIndex& index, int side, int v, int face);
+/// The same for v located on boundary edge e of the other side (its
+/// on_edge list, kept by parameter; the side of e must be open).
+void add_on_edge(MetaIndex& index, const MetaMesh& meta, int side, int v, int e);
+void remove_on_edge(MetaIndex& index, int side, int v, int e);
 /// The same for v located on vertex x of the other side (its lodgers).
 void add_lodger(MetaIndex& index, int side, int v, int x);
 void remove_lodger(MetaIndex& index, int side, int v, int x);

@@ -4,11 +4,30 @@
 #include "map/overlay.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace ism {
 
-bool build_edges(MetaSide& side) {
+void set_edge_location(MetaLocation& loc, const MetaSide& other, int f, int e, double t) {
+  const auto& fe = other.face_edges[std::size_t(f)];
+  const int k = fe[0] == e ? 0 : fe[1] == e ? 1 : fe[2] == e ? 2 : -1;
+  if (k < 0)
+    throw std::invalid_argument("set_edge_location: edge " + std::to_string(e) +
+                                " is not an edge of face " + std::to_string(f));
+  const int k1 = (k + 1) % 3;
+  const bool forward = other.faces[std::size_t(f)][k] == other.edges[std::size_t(e)][0];
+  loc.vertex = -1;
+  loc.face = f;
+  loc.edge = e;
+  loc.t = t;
+  loc.bary.setZero();
+  loc.bary[k] = forward ? 1 - t : t;
+  loc.bary[k1] = forward ? t : 1 - t;
+}
+
+bool build_edges(MetaSide& side, bool allow_boundary) {
   std::unordered_map<std::uint64_t, int> id;  // undirected (u, v), u < v
   std::vector<std::array<int, 2>> uses;       // per edge: times used u -> v, v -> u
   std::vector<std::array<int, 2>> edges;
@@ -26,7 +45,7 @@ bool build_edges(MetaSide& side) {
       face_edges[f][k] = it->second;
     }
   for (const auto& u : uses)
-    if (u[0] != 1 || u[1] != 1) return false;
+    if (u[0] + u[1] != 2 && !(allow_boundary && u[0] + u[1] == 1)) return false;
   side.edges = std::move(edges);
   side.face_edges = std::move(face_edges);
   return true;

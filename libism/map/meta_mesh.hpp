@@ -23,11 +23,19 @@
 namespace ism {
 
 /// Where a vertex of one mesh lies on the other: exactly on its vertex
-/// `vertex`, or inside its face `face` at barycentric coordinates `bary`.
+/// `vertex`, or inside its face `face` at barycentric coordinates `bary`, or
+/// (a boundary vertex of an open map) on a boundary edge `edge` of the other
+/// mesh at parameter `t` in (0, 1) from the edge's first vertex
+/// (MetaSide::edges[edge][0]); `face` and `bary` then name the same point in
+/// that edge's one face (set_edge_location), so that a reader of points on
+/// faces needs no case of its own.
 struct MetaLocation {
   int vertex = -1;
   int face = -1;
   Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+  int edge = -1;
+  double t = 0;
+  bool on_edge() const { return edge >= 0; }
 };
 
 /// A point where an edge's image on the other mesh breaks: `here` is the
@@ -75,6 +83,11 @@ inline Vec3 point_at(const MetaSide& side, const MetaLocation& at) {
          at.bary[2] * side.positions[std::size_t(t[2])];
 }
 
+/// `loc` on edge e of `other` at parameter t, in face f of `other` (the
+/// face holding e: a boundary edge has one): edge, t, face and bary set,
+/// vertex -1. Throws std::invalid_argument if e is not an edge of f.
+void set_edge_location(MetaLocation& loc, const MetaSide& other, int f, int e, double t);
+
 /// side[0] is M¹ (the domain of a SurfaceMap), side[1] M² (the surface).
 struct MetaMesh {
   std::array<MetaSide, 2> side;
@@ -90,8 +103,10 @@ std::optional<MetaMesh> meta_mesh(const SurfaceMap& map);
 MetaMesh swapped(const MetaMesh& meta);
 
 /// Fills edges and face_edges of a side from its faces; false (nothing
-/// filled) if two faces share an edge the same way or an edge has no twin.
-bool build_edges(MetaSide& side);
+/// filled) if two faces share an edge the same way, or an edge has no twin
+/// and `allow_boundary` is false (with it, an edge of one face is a
+/// boundary edge: a side of an open map).
+bool build_edges(MetaSide& side, bool allow_boundary = false);
 
 /// The invariants of DESIGN.md §4 checked on the meta-mesh alone, the same
 /// way from both sides: every edge of one mesh runs through faces of the
@@ -100,7 +115,11 @@ bool build_edges(MetaSide& side);
 /// the pieces each face is cut into (the cells its arrangement of the other
 /// mesh's edges forms, in the face's metric) have positive area and sum to
 /// the face's area within 1e-9 relative; and the pieces of the two sides are
-/// the same cells, each once (the map is a bijection). The first violation.
+/// the same cells, each once (the map is a bijection). An open map (sides
+/// with boundary edges) also needs its boundaries to correspond: each
+/// boundary vertex on a boundary vertex or boundary edge of the other side,
+/// each interior vertex off the other side's boundary, no break point on a
+/// boundary edge. The first violation.
 std::optional<std::string> validate(const MetaMesh& meta);
 
 /// Identity of a vertex of the overlay (a meta-vertex), the same from both
@@ -148,10 +167,11 @@ MapMeasures measures(std::span<const MetaPiece> pieces, const std::vector<char>&
 
 /// Counts of a meta-mesh's elements.
 struct MetaMeshSize {
-  std::size_t crossings = 0;        // edge pairs that cross
-  std::size_t vertices_inside = 0;  // vertices inside a face of the other mesh
-  std::size_t shared_vertices = 0;  // vertices of both meshes at one point
-  std::size_t kinks = 0;            // kink points of either mesh's edges
+  std::size_t crossings = 0;          // edge pairs that cross
+  std::size_t vertices_inside = 0;    // vertices inside a face of the other mesh
+  std::size_t shared_vertices = 0;    // vertices of both meshes at one point
+  std::size_t on_boundary_edges = 0;  // vertices on a boundary edge of the other mesh
+  std::size_t kinks = 0;              // kink points of either mesh's edges
   std::size_t pieces = 0;
   /// Pieces that are not a fan of their corners (triangulate_piece: a star,
   /// a constrained Delaunay or other triangulation of a non-convex piece),
@@ -163,13 +183,14 @@ MetaMeshSize meta_mesh_size(const MetaMesh& meta);
 MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pieces);
 
 /// Writes a meta-mesh as text (format in the README, "Meta-mesh files"),
-/// every number exactly: version 2 (with kink records) when any edge's image
-/// has a kink, version 1 otherwise. Returns false if the file cannot be
-/// written.
+/// every number exactly: version 3 (with records of vertices on boundary
+/// edges) for an open map, else version 2 (with kink records) when any
+/// edge's image has a kink, version 1 otherwise. Returns false if the file
+/// cannot be written.
 bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path);
-/// Reads what write_meta_mesh wrote, version 1 or 2 (validate() it before
-/// use). Throws
-/// io::FileError naming the file and line of the first malformed record.
+/// Reads what write_meta_mesh wrote, version 1, 2 or 3 (validate() it before
+/// use). Throws io::FileError naming the file and line of the first
+/// malformed record.
 MetaMesh read_meta_mesh(const std::filesystem::path& path);
 
 }  // namespace ism

@@ -3,6 +3,7 @@
 #include "map/meta_mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -18,11 +19,14 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
   char line[256];
   // Version 2 only when kinks need its k records: a map without kinks is
   // written exactly as before, for readers of version 1.
-  bool kinks = false;
-  for (const MetaSide& side : meta.side)
+  // Version 3 only when an open map needs its b records.
+  bool kinks = false, open = false;
+  for (const MetaSide& side : meta.side) {
     for (const auto& list : side.crossings)
       for (const MetaCrossing& c : list) kinks = kinks || c.is_kink();
-  out << (kinks ? "ism-meta-mesh 2\n" : "ism-meta-mesh 1\n");
+    for (const MetaLocation& loc : side.location) open = open || loc.on_edge();
+  }
+  out << (open ? "ism-meta-mesh 3\n" : kinks ? "ism-meta-mesh 2\n" : "ism-meta-mesh 1\n");
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
     out << "mesh " << m << ' ' << side.n_vertices() << ' ' << side.faces.size() << '\n';
@@ -39,6 +43,10 @@ bool write_meta_mesh(const MetaMesh& meta, const std::filesystem::path& path) {
       const MetaLocation& loc = meta.side[m].location[v];
       if (loc.vertex >= 0) {
         if (m == 0) out << "on " << v << ' ' << loc.vertex << '\n';
+      } else if (loc.on_edge()) {
+        const auto& e = meta.side[1 - m].edges[loc.edge];
+        std::snprintf(line, sizeof line, "b %d %zu %d %d %.17g\n", m, v, e[0], e[1], loc.t);
+        out << line;
       } else if (loc.face >= 0) {
         std::snprintf(line, sizeof line, "in %d %zu %d %.17g %.17g %.17g\n", m, v, loc.face,
                       loc.bary[0], loc.bary[1], loc.bary[2]);
@@ -96,7 +104,8 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
   auto fully = [&](std::istringstream& words) { return !words.fail() && complete(words); };
   std::string line;
   ++line_number;
-  if (!std::getline(in, line) || (line != "ism-meta-mesh 1" && line != "ism-meta-mesh 2"))
+  if (!std::getline(in, line) ||
+      (line != "ism-meta-mesh 1" && line != "ism-meta-mesh 2" && line != "ism-meta-mesh 3"))
     fail("not an ism meta-mesh file");
   const int version = line.back() - '0';
   MetaMesh meta;
@@ -111,6 +120,12 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
     int line;
   };
   std::vector<Kink> kinks;
+  struct OnEdge {  // a b record: vertex v of side m on edge a-b of the other
+    int side, v, a, b;
+    double t;
+    int line;
+  };
+  std::vector<OnEdge> on_edges;
   while (std::getline(in, line)) {
     ++line_number;
     std::istringstream words(line);
@@ -160,6 +175,17 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
           std::size_t(loc.face) >= faces_expected[1 - m] || !loc.bary.allFinite())
         fail("bad location");
       meta.side[m].location[v] = loc;
+    } else if (kind == "b") {
+      if (version < 3)
+        fail("boundary-edge location in a version " + std::to_string(version) +
+             " file (they need 'ism-meta-mesh 3')");
+      OnEdge b{-1, -1, -1, -1, 0.0, line_number};
+      words >> b.side >> b.v >> b.a >> b.b >> b.t;
+      if (!fully(words) || (b.side != 0 && b.side != 1) || b.v < 0 ||
+          std::size_t(b.v) >= meta.side[b.side].n_vertices())
+        fail("bad boundary-edge location");
+      if (!(b.t > 0 && b.t < 1)) fail("a boundary-edge location's parameter must lie in (0, 1)");
+      on_edges.push_back(b);
     } else if (kind == "x") {
       std::array<int, 4> e;
       std::array<double, 2> s;
@@ -191,7 +217,9 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
     MetaSide& side = meta.side[m];
     if (!mesh_seen[m]) fail("no mesh " + std::to_string(m));
     if (side.faces.size() != faces_expected[m]) fail("face count differs from its mesh line");
-    if (!build_edges(side)) fail("mesh " + std::to_string(m) + " is not a closed manifold");
+    if (!build_edges(side, version >= 3))
+      fail("mesh " + std::to_string(m) +
+           (version >= 3 ? " is not a manifold" : " is not a closed manifold"));
     side.crossings.assign(side.edges.size(), {});
   }
   std::array<std::unordered_map<std::uint64_t, int>, 2> edge_id;
@@ -208,6 +236,22 @@ MetaMesh read_meta_mesh(const std::filesystem::path& path) {
     const double s1 = e[2] < e[3] ? crossing_at[i][1] : 1 - crossing_at[i][1];
     meta.side[0].crossings[a->second].push_back({b->second, s0, s1});
     meta.side[1].crossings[b->second].push_back({a->second, s1, s0});
+  }
+  std::array<std::vector<int>, 2> edge_face;  // a face of each edge
+  if (!on_edges.empty())
+    for (int m = 0; m < 2; ++m) {
+      edge_face[m].assign(meta.side[m].edges.size(), -1);
+      for (std::size_t f = 0; f < meta.side[m].faces.size(); ++f)
+        for (int e : meta.side[m].face_edges[f]) edge_face[m][e] = int(f);
+    }
+  for (const OnEdge& b : on_edges) {
+    line_number = b.line;
+    const int o = 1 - b.side;
+    const auto e = edge_id[o].find(undirected_edge_key(b.a, b.b));
+    if (e == edge_id[o].end()) fail("a location on no edge of mesh " + std::to_string(o));
+    // Stored from the first vertex named.
+    set_edge_location(meta.side[b.side].location[b.v], meta.side[o], edge_face[o][e->second],
+                      e->second, b.a < b.b ? b.t : 1 - b.t);
   }
   for (const Kink& k : kinks) {
     line_number = k.line;

@@ -30,13 +30,34 @@ std::string face_name(int m, int f) {
   return std::string(mesh_name(m)) + " face " + std::to_string(f);
 }
 
-/// The records of one side on their own: sizes, locations, break points.
+/// Per edge of a side, whether it has one face (a boundary edge); per
+/// vertex, whether it lies on one.
+void boundary_flags(const MetaSide& side, std::vector<char>& edge, std::vector<char>& vertex) {
+  std::vector<int> uses(side.edges.size(), 0);
+  for (const auto& fe : side.face_edges)
+    for (int e : fe)
+      if (e >= 0 && std::size_t(e) < uses.size()) ++uses[e];
+  edge.assign(side.edges.size(), 0);
+  vertex.assign(side.n_vertices(), 0);
+  for (std::size_t e = 0; e < uses.size(); ++e)
+    if (uses[e] == 1) {
+      edge[e] = 1;
+      for (int v : side.edges[e])
+        if (v >= 0 && std::size_t(v) < vertex.size()) vertex[v] = 1;
+    }
+}
+
+/// The records of one side on their own: sizes, locations, break points,
+/// and on an open map the boundaries' correspondence.
 std::optional<std::string> check_side(const MetaMesh& meta, int m, std::vector<char>& used) {
   const MetaSide& side = meta.side[m];
   const MetaSide& other = meta.side[1 - m];
   if (side.lengths.size() != side.faces.size() || side.face_edges.size() != side.faces.size() ||
       side.crossings.size() != side.edges.size())
     return std::string(mesh_name(m)) + ": inconsistent sizes";
+  std::vector<char> edge_open, vertex_open, other_edge_open, other_vertex_open;
+  boundary_flags(side, edge_open, vertex_open);
+  boundary_flags(other, other_edge_open, other_vertex_open);
   used.assign(side.n_vertices(), 0);
   for (std::size_t f = 0; f < side.faces.size(); ++f) {
     for (int v : side.faces[f]) {
@@ -60,11 +81,35 @@ std::optional<std::string> check_side(const MetaMesh& meta, int m, std::vector<c
       if (std::size_t(loc.vertex) >= other.n_vertices() ||
           other.location[loc.vertex].vertex != int(v))
         return vertex_name(m, int(v)) + ": on a vertex that is not on it";
+      if (vertex_open[v] != other_vertex_open[loc.vertex])
+        return vertex_name(m, int(v)) + (vertex_open[v] ? ": a boundary vertex" : ": a vertex") +
+               " on " + (vertex_open[v] ? "an interior" : "a boundary") +
+               " vertex of the other mesh";
     } else if (std::size_t(loc.face) >= other.faces.size() || bad_bary(loc.bary)) {
       return vertex_name(m, int(v)) + ": bad location";
+    } else if (loc.on_edge()) {
+      if (std::size_t(loc.edge) >= other.edges.size() || !other_edge_open[loc.edge])
+        return vertex_name(m, int(v)) +
+               ": on an edge of the other mesh that is not a boundary edge";
+      if (!vertex_open[v])
+        return vertex_name(m, int(v)) + ": an interior vertex on the other mesh's boundary";
+      if (!(loc.t > 0 && loc.t < 1))
+        return vertex_name(m, int(v)) + ": on a boundary edge at parameter " +
+               std::to_string(loc.t) + ", outside (0, 1)";
+      MetaLocation expected;
+      const auto& fe = other.face_edges[loc.face];
+      if (fe[0] != loc.edge && fe[1] != loc.edge && fe[2] != loc.edge)
+        return vertex_name(m, int(v)) + ": on a boundary edge of another face";
+      set_edge_location(expected, other, loc.face, loc.edge, loc.t);
+      if ((expected.bary - loc.bary).cwiseAbs().maxCoeff() > 1e-12)
+        return vertex_name(m, int(v)) + ": its barycentric coordinates are off its boundary edge";
+    } else if (vertex_open[v]) {
+      return vertex_name(m, int(v)) + ": a boundary vertex inside a face of the other mesh";
     }
   }
   for (std::size_t e = 0; e < side.edges.size(); ++e) {
+    if (edge_open[e] && !side.crossings[e].empty())
+      return edge_name(side, m, int(e)) + ": a boundary edge with break points";
     double last = 0;
     for (const MetaCrossing& c : side.crossings[e]) {
       const bool bad_other =
@@ -108,7 +153,7 @@ Cut cut(const MetaMesh& meta) {
   for (int m = 0; m < 2; ++m) {
     const MetaSide& side = meta.side[m];
     for (std::size_t e = 0; e < side.edges.size(); ++e) {
-      if (!side.crossings[e].empty()) continue;
+      if (!side.crossings[e].empty() || (index[m].open && !index[m].on_edge[e].empty())) continue;
       const int a = side.location[side.edges[e][0]].vertex,
                 b = side.location[side.edges[e][1]].vertex;
       if (a >= 0 && b >= 0 && index[1 - m].edge(a, b) < 0)
@@ -245,7 +290,10 @@ MetaMeshSize meta_mesh_size(const MetaMesh& meta, std::span<const MetaPiece> pie
     for (const auto& list : side.crossings)
       for (const MetaCrossing& c : list) size.kinks += c.is_kink();
   for (const MetaSide& side : meta.side)
-    for (const MetaLocation& loc : side.location) size.vertices_inside += loc.face >= 0;
+    for (const MetaLocation& loc : side.location) {
+      size.vertices_inside += loc.face >= 0 && !loc.on_edge();
+      size.on_boundary_edges += loc.on_edge();
+    }
   for (const MetaLocation& loc : meta.side[0].location) size.shared_vertices += loc.vertex >= 0;
   return size;
 }

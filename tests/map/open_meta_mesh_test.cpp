@@ -1,0 +1,459 @@
+// Open maps in the meta-mesh: two different triangulations of the unit
+// square overlaid in the plane (each side's boundary vertices on the other's
+// boundary edges) validate from both sides, measure the identity as
+// stretch-free, map points to themselves, survive a file round trip, and
+// every corruption of their boundary records is found.
+#include "io/io.hpp"
+#include "map/inter_surface_map.hpp"
+#include "map/map.hpp"
+#include "map/meta_cut.hpp"
+#include "map/meta_mesh_sampler.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace ism {
+namespace {
+
+/// A triangulation of the unit square in the plane.
+struct PlanarMesh {
+  std::vector<Vec2> p;
+  std::vector<Triangle> faces;
+};
+
+/// An n × n grid of the unit square, each cell split by a random diagonal:
+/// the corners fixed, the other boundary vertices moved along their side and
+/// the interior ones in both directions, by up to `jitter` of a cell.
+PlanarMesh jittered_square(int n, double jitter, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-jitter / n, jitter / n);
+  PlanarMesh m;
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      Vec2 q(double(i) / n, double(j) / n);
+      const bool side_x = i == 0 || i == n, side_y = j == 0 || j == n;
+      if (!side_x) q.x() += u(rng);
+      if (!side_y) q.y() += u(rng);
+      m.p.push_back(q);
+    }
+  std::bernoulli_distribution flip(0.5);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+      if (flip(rng)) {
+        m.faces.push_back({a, b, c});
+        m.faces.push_back({a, c, d});
+      } else {
+        m.faces.push_back({a, b, d});
+        m.faces.push_back({b, c, d});
+      }
+    }
+  return m;
+}
+
+/// The lengths of a face from positions (2D or 3D).
+template <class P>
+FaceLengths lengths_of(const std::vector<P>& x, const Triangle& t) {
+  return {(x[t[1]] - x[t[0]]).norm(), (x[t[2]] - x[t[1]]).norm(), (x[t[0]] - x[t[2]]).norm()};
+}
+
+/// The identity of the plane as a meta-mesh between two triangulations of
+/// the same square (in general position inside it): locations and crossings
+/// found by brute force. Side m's metric is that of `metric[m]` when given
+/// (another planar drawing of the same faces), else its own.
+MetaMesh planar_overlay(const std::array<const PlanarMesh*, 2>& mesh,
+                        const std::array<const std::vector<Vec2>*, 2>& metric = {nullptr,
+                                                                                 nullptr}) {
+  MetaMesh meta;
+  for (int m = 0; m < 2; ++m) {
+    MetaSide& side = meta.side[m];
+    side.faces = mesh[m]->faces;
+    for (const Triangle& t : side.faces)
+      side.lengths.push_back(lengths_of(metric[m] ? *metric[m] : mesh[m]->p, t));
+    if (!build_edges(side, true)) throw std::logic_error("not a manifold");
+    side.location.assign(mesh[m]->p.size(), {});
+    side.crossings.assign(side.edges.size(), {});
+  }
+  const MetaIndex index = build_index(meta);
+  for (int m = 0; m < 2; ++m) {
+    const PlanarMesh &X = *mesh[m], &Y = *mesh[1 - m];
+    const MetaSide& other = meta.side[1 - m];
+    for (std::size_t v = 0; v < X.p.size(); ++v) {
+      MetaLocation& loc = meta.side[m].location[v];
+      for (std::size_t w = 0; w < Y.p.size() && loc.vertex < 0; ++w)
+        if ((X.p[v] - Y.p[w]).norm() < 1e-12) loc.vertex = int(w);
+      if (loc.vertex >= 0) continue;
+      for (std::size_t f = 0; f < Y.faces.size(); ++f) {
+        const Triangle& t = Y.faces[f];
+        const std::array<Vec2, 3> c{Y.p[t[0]], Y.p[t[1]], Y.p[t[2]]};
+        const double a = orient(c[0], c[1], c[2]);
+        const Eigen::Vector3d b(orient(X.p[v], c[1], c[2]) / a, orient(c[0], X.p[v], c[2]) / a,
+                                orient(c[0], c[1], X.p[v]) / a);
+        if (b.minCoeff() < -1e-13) continue;
+        int zero = -1;
+        for (int k = 0; k < 3; ++k)
+          if (std::abs(b[k]) < 1e-13) zero = k;
+        if (zero < 0) {
+          loc.face = int(f);
+          loc.bary = b;
+        } else {  // on the edge opposite corner `zero`: a boundary edge
+          const int k = (zero + 1) % 3, k1 = (zero + 2) % 3;
+          const int e = other.face_edges[f][k];
+          if (!index[1 - m].is_boundary(e)) throw std::logic_error("not in general position");
+          const double along = b[k1] / (b[k] + b[k1]);  // from corner k
+          set_edge_location(loc, other, int(f), e, t[k] == other.edges[e][0] ? along : 1 - along);
+        }
+        break;
+      }
+      if (loc.face < 0) throw std::logic_error("a vertex outside the other mesh");
+    }
+  }
+  // Crossings of interior edges.
+  const MetaSide &s0 = meta.side[0], &s1 = meta.side[1];
+  for (std::size_t e = 0; e < s0.edges.size(); ++e) {
+    if (index[0].is_boundary(int(e))) continue;
+    const Vec2 &a = mesh[0]->p[s0.edges[e][0]], &b = mesh[0]->p[s0.edges[e][1]];
+    for (std::size_t g = 0; g < s1.edges.size(); ++g) {
+      if (index[1].is_boundary(int(g))) continue;
+      const Vec2 &c = mesh[1]->p[s1.edges[g][0]], &d = mesh[1]->p[s1.edges[g][1]];
+      const double da = orient(c, d, a), db = orient(c, d, b), dc = orient(a, b, c),
+                   dd = orient(a, b, d);
+      if (!(da * db < 0 && dc * dd < 0)) continue;
+      const double here = da / (da - db), there = dc / (dc - dd);
+      if (here < 1e-9 || here > 1 - 1e-9 || there < 1e-9 || there > 1 - 1e-9)
+        throw std::logic_error("not in general position");
+      meta.side[0].crossings[e].push_back({int(g), here, there});
+      meta.side[1].crossings[g].push_back({int(e), there, here});
+    }
+  }
+  for (MetaSide& side : meta.side)
+    for (auto& list : side.crossings)
+      std::sort(list.begin(), list.end(),
+                [](const MetaCrossing& x, const MetaCrossing& y) { return x.here < y.here; });
+  return meta;
+}
+
+/// Boundary vertices of a planar square mesh that are not its corners.
+std::size_t side_points(const PlanarMesh& m) {
+  std::size_t n = 0;
+  for (const Vec2& q : m.p) {
+    const bool on_x = q.x() == 0 || q.x() == 1, on_y = q.y() == 0 || q.y() == 1;
+    n += on_x != on_y;
+  }
+  return n;
+}
+
+Vec2 point_of(const PlanarMesh& m, int f, const Eigen::Vector3d& b) {
+  const Triangle& t = m.faces[f];
+  return b[0] * m.p[t[0]] + b[1] * m.p[t[1]] + b[2] * m.p[t[2]];
+}
+
+TEST(OpenMetaMesh, TwoTriangulationsOfASquareOverlaidAreTheIdentity) {
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(seed);
+    const int na = 2 + int(seed % 4), nb = 3 + int(seed % 5) + int(seed % 2);
+    const PlanarMesh A = jittered_square(na, 0.3, rng), B = jittered_square(nb, 0.3, rng);
+    const MetaMesh meta = planar_overlay({&A, &B});
+    ASSERT_EQ(validate(meta), std::nullopt);
+    ASSERT_EQ(validate(swapped(meta)), std::nullopt);
+    const auto m = measures(meta);
+    ASSERT_TRUE(m.has_value());
+    EXPECT_NEAR(m->symmetric_efficiency, 1.0, 1e-12);
+    EXPECT_NEAR(m->forward_efficiency, 1.0, 1e-12);
+    EXPECT_NEAR(m->backward_efficiency, 1.0, 1e-12);
+    const MetaMeshSize size = meta_mesh_size(meta);
+    EXPECT_EQ(size.on_boundary_edges, side_points(A) + side_points(B));
+    EXPECT_EQ(size.shared_vertices, 4u);  // the corners
+    EXPECT_GT(size.crossings, 0u);
+    // The pieces tile the square from both sides.
+    const auto pieces = meta_pieces(meta);
+    ASSERT_TRUE(pieces.has_value());
+    double area[2] = {0, 0};
+    for (const MetaPiece& p : *pieces) area[0] += p.area[0], area[1] += p.area[1];
+    EXPECT_NEAR(area[0], 1.0, 1e-12);
+    EXPECT_NEAR(area[1], 1.0, 1e-12);
+    // Points map to themselves both ways, near the boundary too.
+    const MetaMeshSampler sampler(meta);
+    std::uniform_real_distribution<double> r(0, 1);
+    for (int m_side = 0; m_side < 2; ++m_side) {
+      const PlanarMesh& X = m_side == 0 ? A : B;
+      const PlanarMesh& Y = m_side == 0 ? B : A;
+      for (std::size_t f = 0; f < X.faces.size(); ++f)
+        for (int i = 0; i < 4; ++i) {
+          double u = r(rng), v = r(rng);
+          if (u + v > 1) u = 1 - u, v = 1 - v;
+          if (i == 0) v = 1e-15;  // next to an edge (a boundary edge for some faces)
+          const Eigen::Vector3d b(1 - u - v, u, v);
+          const auto image = sampler.map_point(m_side, int(f), b);
+          ASSERT_TRUE(image.has_value());
+          EXPECT_LT((point_of(Y, image->face, image->bary) - point_of(X, int(f), b)).norm(), 1e-12);
+        }
+    }
+  }
+}
+
+TEST(OpenMetaMesh, ADeformedMetricValidatesAndMeasuresBelowOne) {
+  std::mt19937 rng(7);
+  const PlanarMesh A = jittered_square(4, 0.3, rng), B = jittered_square(6, 0.3, rng);
+  // B's faces measured on a smooth deformation of the square (its faces stay
+  // positive): the map is then the deformation, piecewise linear.
+  std::vector<Vec2> bent;
+  for (const Vec2& q : B.p)
+    bent.push_back({q.x() + 0.1 * std::sin(3 * q.y()), q.y() * (1 + 0.3 * q.x())});
+  const MetaMesh meta = planar_overlay({&A, &B}, {nullptr, &bent});
+  ASSERT_EQ(validate(meta), std::nullopt);
+  const auto m = measures(meta);
+  ASSERT_TRUE(m.has_value());
+  EXPECT_LT(m->symmetric_efficiency, 0.999);
+  EXPECT_GT(m->symmetric_efficiency, 0.8);
+  const auto s = measures(swapped(meta));
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(s->forward_efficiency, m->backward_efficiency, 1e-12);
+}
+
+TEST(OpenMetaMesh, FilesOfOpenMapsReadBackExactly) {
+  std::mt19937 rng(3);
+  const PlanarMesh A = jittered_square(3, 0.3, rng), B = jittered_square(5, 0.3, rng);
+  const MetaMesh meta = planar_overlay({&A, &B});
+  const auto path = std::filesystem::temp_directory_path() / "ism_open_meta_mesh.txt";
+  ASSERT_TRUE(write_meta_mesh(meta, path));
+  {
+    std::ifstream in(path);
+    std::string first;
+    std::getline(in, first);
+    EXPECT_EQ(first, "ism-meta-mesh 3");
+  }
+  const MetaMesh back = read_meta_mesh(path);
+  ASSERT_EQ(validate(back), std::nullopt);
+  for (int m = 0; m < 2; ++m)
+    for (std::size_t v = 0; v < meta.side[m].n_vertices(); ++v) {
+      const MetaLocation &a = meta.side[m].location[v], &b = back.side[m].location[v];
+      EXPECT_EQ(a.vertex, b.vertex);
+      EXPECT_EQ(a.edge >= 0, b.edge >= 0);
+      if (a.edge >= 0) {
+        EXPECT_EQ(meta.side[1 - m].edges[a.edge], back.side[1 - m].edges[b.edge]);
+        EXPECT_EQ(a.t, b.t);
+        EXPECT_EQ(a.face, b.face);
+        EXPECT_EQ(a.bary, b.bary);
+      }
+    }
+  EXPECT_EQ(measures(back)->symmetric_efficiency, measures(meta)->symmetric_efficiency);
+  // A version 2 file may not hold boundary-edge locations.
+  std::stringstream text;
+  {
+    std::ifstream in(path);
+    text << in.rdbuf();
+  }
+  std::string s = text.str();
+  s.replace(0, std::string("ism-meta-mesh 3").size(), "ism-meta-mesh 2");
+  {
+    std::ofstream out(path);
+    out << s;
+  }
+  try {
+    read_meta_mesh(path);
+    ADD_FAILURE() << "a version 2 file with a b record was read";
+  } catch (const io::FileError& e) {
+    EXPECT_NE(std::string(e.what()).find("need 'ism-meta-mesh 3'"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(OpenMetaMesh, CorruptBoundaryRecordsAreFound) {
+  std::mt19937 rng(5);
+  const PlanarMesh A = jittered_square(3, 0.3, rng), B = jittered_square(4, 0.3, rng);
+  const MetaMesh good = planar_overlay({&A, &B});
+  ASSERT_EQ(validate(good), std::nullopt);
+  // A vertex of B on a boundary edge of A, and an interior vertex of B.
+  int on_edge = -1, inside = -1;
+  for (std::size_t v = 0; v < good.side[1].n_vertices(); ++v) {
+    const MetaLocation& loc = good.side[1].location[v];
+    if (loc.on_edge() && on_edge < 0) on_edge = int(v);
+    if (!loc.on_edge() && loc.face >= 0 && inside < 0) inside = int(v);
+  }
+  ASSERT_GE(on_edge, 0);
+  ASSERT_GE(inside, 0);
+  auto expect_error = [](const MetaMesh& meta, const std::string& what) {
+    const auto error = validate(meta);
+    ASSERT_TRUE(error.has_value()) << what;
+    EXPECT_NE(error->find(what), std::string::npos) << *error;
+  };
+  {  // The boundary vertex said to lie inside its face.
+    MetaMesh bad = good;
+    MetaLocation& loc = bad.side[1].location[on_edge];
+    loc.edge = -1;
+    loc.bary = Eigen::Vector3d(0.2, 0.3, 0.5);
+    expect_error(bad, "a boundary vertex inside a face of the other mesh");
+  }
+  {  // Slid a little along its edge: another map, as valid (each side's
+     // records place the meta-vertices in its own faces).
+    MetaMesh moved = good;
+    MetaLocation& loc = moved.side[1].location[on_edge];
+    set_edge_location(loc, moved.side[0], loc.face, loc.edge,
+                      loc.t < 0.5 ? loc.t + 1e-3 : loc.t - 1e-3);
+    EXPECT_EQ(validate(moved), std::nullopt);
+  }
+  {  // Moved onto a boundary edge of another face: its edges' records no
+     // longer close.
+    MetaMesh bad = good;
+    MetaLocation& loc = bad.side[1].location[on_edge];
+    const MetaIndex index = build_index(bad);
+    int face = -1, edge = -1;
+    for (std::size_t f = 0; f < bad.side[0].faces.size() && edge < 0; ++f) {
+      if (int(f) == loc.face) continue;
+      for (int e : bad.side[0].face_edges[f])
+        if (index[0].is_boundary(e) && e != loc.edge) face = int(f), edge = e;
+    }
+    ASSERT_GE(edge, 0);
+    set_edge_location(loc, bad.side[0], face, edge, 0.5);
+    EXPECT_TRUE(validate(bad).has_value());
+  }
+  {  // Its parameter and barycentric coordinates disagree.
+    MetaMesh bad = good;
+    bad.side[1].location[on_edge].t = 0.5 * bad.side[1].location[on_edge].t + 0.25;
+    expect_error(bad, "off its boundary edge");
+  }
+  {  // An interior vertex put on a boundary edge.
+    MetaMesh bad = good;
+    const MetaLocation& ref = good.side[1].location[on_edge];
+    set_edge_location(bad.side[1].location[inside], bad.side[0], ref.face, ref.edge, 0.5);
+    expect_error(bad, "an interior vertex on the other mesh's boundary");
+  }
+  {  // A location on an interior edge.
+    MetaMesh bad = good;
+    const MetaIndex index = build_index(bad);
+    int f = good.side[1].location[inside].face, e = -1;
+    for (int x : bad.side[0].face_edges[f])
+      if (!index[0].is_boundary(x)) e = x;
+    ASSERT_GE(e, 0);
+    set_edge_location(bad.side[1].location[on_edge], bad.side[0], f, e, 0.5);
+    expect_error(bad, "not a boundary edge");
+  }
+  {  // A break point on a boundary edge.
+    MetaMesh bad = good;
+    const MetaIndex index = build_index(bad);
+    for (std::size_t e = 0; e < bad.side[0].edges.size(); ++e)
+      if (index[0].is_boundary(int(e))) {
+        bad.side[0].crossings[e].push_back(MetaCrossing{-1, 0.5, 0, 0, Eigen::Vector3d(1, 0, 0)});
+        break;
+      }
+    expect_error(bad, "a boundary edge with break points");
+  }
+  {  // A corner of one square on a vertex of the other that is not a corner.
+    MetaMesh bad = good;
+    // Vertex 0 of A (a corner, on B's vertex 0) exchanged with an interior
+    // vertex of B: B's interior vertex said to be on A's corner.
+    const int corner_b = good.side[0].location[0].vertex;
+    ASSERT_GE(corner_b, 0);
+    bad.side[0].location[0].vertex = inside;
+    bad.side[1].location[inside] = MetaLocation{};
+    bad.side[1].location[inside].vertex = 0;
+    bad.side[1].location[corner_b] = good.side[1].location[inside];
+    expect_error(bad, "a boundary vertex on an interior vertex of the other mesh");
+  }
+}
+
+/// Side m of a planar overlay as an abstract domain of the map core, its
+/// metric the meta-mesh's (extra: unused vertex slots to split into).
+MapSideInput open_side(const MetaMesh& meta, int m, std::size_t extra = 0) {
+  TriangleMesh mesh;
+  mesh.triangles = meta.side[m].faces;
+  mesh.positions.assign(meta.side[m].n_vertices(), Vec3::Zero());
+  MapSideInput in = side_from_domain(mesh, meta.side[m].lengths);
+  in.n_vertices += extra;
+  return in;
+}
+
+TEST(OpenMetaMesh, TheMapCoreOptimisesAnOpenMapAwayFromItsBoundary) {
+  std::mt19937 rng(9);
+  const PlanarMesh A = jittered_square(6, 0.3, rng), B = jittered_square(8, 0.3, rng);
+  std::vector<Vec2> bent;
+  for (const Vec2& q : B.p)
+    bent.push_back({q.x() + 0.1 * std::sin(3 * q.y()), q.y() * (1 + 0.3 * q.x())});
+  const MetaMesh meta = planar_overlay({&A, &B}, {nullptr, &bent});
+  ASSERT_EQ(validate(meta), std::nullopt);
+  InterSurfaceMap map(meta, open_side(meta, 0), open_side(meta, 1), {0, 0});
+  ASSERT_EQ(map.validate(), std::nullopt);
+  const double start = map.energy();
+  double energy = start;
+  std::size_t moves = 0, moved_near_boundary = 0;
+  const MetaIndex index = build_index(meta);
+  auto near_boundary = [&](int s, int v) {
+    for (int f : index[s].vertex_faces[v])
+      for (int e : meta.side[s].face_edges[f])
+        if (index[s].is_boundary(e)) return true;
+    return false;
+  };
+  for (int sweep = 0; sweep < 3; ++sweep)
+    for (int s = 0; s < 2; ++s)
+      for (std::size_t v = 0; v < meta.side[s].n_vertices(); ++v) {
+        const double gain = map.optimize_vertex(s, int(v));
+        const double after = map.energy();
+        // Every accepted move lowers the energy by exactly its gain.
+        EXPECT_NEAR(energy - after, gain, 1e-12 * energy);
+        if (gain > 0) {
+          ++moves;
+          moved_near_boundary += near_boundary(s, int(v));
+          ASSERT_EQ(map.validate(), std::nullopt)
+              << "after moving vertex " << v << " of side " << s;
+        }
+        energy = after;
+      }
+  std::printf("open square map: energy %.6f -> %.6f in %zu moves\n", start, energy, moves);
+  EXPECT_GT(moves, 20u);
+  EXPECT_LT(energy, start * (1 - 1e-4));
+  EXPECT_EQ(moved_near_boundary, 0u);
+  // The boundary vertices stay where they were, on both sides.
+  for (int s = 0; s < 2; ++s)
+    for (std::size_t v = 0; v < meta.side[s].n_vertices(); ++v) {
+      const MetaLocation &was = meta.side[s].location[v], &is = map.meta().side[s].location[v];
+      if (!was.on_edge() && was.vertex < 0) continue;
+      EXPECT_EQ(is.vertex, was.vertex);
+      EXPECT_EQ(is.edge, was.edge);
+      EXPECT_EQ(is.t, was.t);
+    }
+  ASSERT_EQ(validate(swapped(map.meta())), std::nullopt);
+  const auto m = measures(map.meta());
+  ASSERT_TRUE(m.has_value());
+  EXPECT_GT(m->symmetric_efficiency, measures(meta)->symmetric_efficiency);
+}
+
+TEST(OpenMetaMesh, TheTrivialMapOfTwoOpenBasesIsValidAndASplitAtTheBoundaryIsRefused) {
+  std::mt19937 rng(4);
+  const PlanarMesh A = jittered_square(3, 0.3, rng);
+  std::vector<Vec2> bent;
+  for (const Vec2& q : A.p) bent.push_back({q.x() * (1 + 0.5 * q.y()), q.y()});
+  // Two copies of one open base with different metrics.
+  MetaMesh meta = planar_overlay({&A, &A}, {nullptr, &bent});
+  ASSERT_EQ(validate(meta), std::nullopt);
+  InterSurfaceMap trivial(open_side(meta, 0), open_side(meta, 1));
+  ASSERT_EQ(trivial.validate(), std::nullopt);
+  EXPECT_EQ(meta_mesh_size(trivial.meta()).pieces, A.faces.size());
+  EXPECT_NEAR(trivial.energy(), 2 / measures(meta)->symmetric_efficiency, 1e-12);
+  // A split of boundary vertex 1 (on the square's bottom side) into an
+  // unused vertex slot: refused, the map as it was.
+  meta.side[1].location.push_back({});
+  MapSideInput b = open_side(meta, 1, 0);
+  b.splits.push_back({int(A.p.size()), 1, 0, 2, Vec3::Zero()});
+  InterSurfaceMap map(meta, open_side(meta, 0), b, {0, 0});
+  const double before = map.energy();
+  try {
+    map.split_next(1);
+    ADD_FAILURE() << "a split at the boundary was applied";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("a split at the boundary"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(map.energy(), before);
+  EXPECT_EQ(map.splits_applied(1), 0u);
+  EXPECT_EQ(map.validate(), std::nullopt);
+}
+
+}  // namespace
+}  // namespace ism
