@@ -49,15 +49,19 @@ void boundary_flags(const MetaSide& side, std::vector<char>& edge, std::vector<c
 
 /// The records of one side on their own: sizes, locations, break points,
 /// and on an open map the boundaries' correspondence.
-std::optional<std::string> check_side(const MetaMesh& meta, int m, std::vector<char>& used) {
+/// (`open`: boundary_flags of both sides, edges then vertices.)
+struct BoundaryFlags {
+  std::array<std::vector<char>, 2> edge, vertex;
+};
+std::optional<std::string> check_side(const MetaMesh& meta, int m, const BoundaryFlags& open,
+                                      std::vector<char>& used) {
   const MetaSide& side = meta.side[m];
   const MetaSide& other = meta.side[1 - m];
   if (side.lengths.size() != side.faces.size() || side.face_edges.size() != side.faces.size() ||
       side.crossings.size() != side.edges.size())
     return std::string(mesh_name(m)) + ": inconsistent sizes";
-  std::vector<char> edge_open, vertex_open, other_edge_open, other_vertex_open;
-  boundary_flags(side, edge_open, vertex_open);
-  boundary_flags(other, other_edge_open, other_vertex_open);
+  const std::vector<char>&edge_open = open.edge[m], &vertex_open = open.vertex[m],
+        &other_edge_open = open.edge[1 - m], &other_vertex_open = open.vertex[1 - m];
   used.assign(side.n_vertices(), 0);
   for (std::size_t f = 0; f < side.faces.size(); ++f) {
     for (int v : side.faces[f]) {
@@ -135,8 +139,10 @@ bool by_nodes(const MetaPiece& a, const MetaPiece& b) {
 Cut cut(const MetaMesh& meta) {
   Cut result;
   std::array<std::vector<char>, 2> used;
+  BoundaryFlags open;  // computed once for both sides' checks
+  for (int m = 0; m < 2; ++m) boundary_flags(meta.side[m], open.edge[m], open.vertex[m]);
   for (int m = 0; m < 2; ++m)
-    if ((result.error = check_side(meta, m, used[m]))) return result;
+    if ((result.error = check_side(meta, m, open, used[m]))) return result;
   // Every crossing recorded by both of its edges.
   std::size_t count[2] = {0, 0};
   for (int m = 0; m < 2; ++m)
