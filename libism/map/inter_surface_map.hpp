@@ -198,10 +198,10 @@ class InterSurfaceMap {
   /// first round places is placed as with one round). After the last it
   /// throws std::runtime_error, the map still valid at the split before.
   /// A held feature (a pinned vertex) is never moved by a split. On an open
-  /// map (sides with boundaries) a split at the boundary (of a boundary
-  /// vertex, or of one with a boundary edge in its ring) throws
+  /// map (sides with boundaries) a split of a boundary vertex throws
   /// std::runtime_error before anything changes: open maps are refined
-  /// only away from their boundaries yet. The
+  /// only inside yet (an interior vertex whose ring reaches the boundary
+  /// splits like any other). The
   /// candidate places are evaluated in parallel (TBB, in the calling
   /// thread's arena); the result does not depend on the number of threads.
   int split_next(int side);
@@ -217,8 +217,9 @@ class InterSurfaceMap {
   /// inside the kernel of its one-ring in a chart (newton_in_kernel in a
   /// fast chart, smooth_ring; LineSearch::parabolic line searches in the
   /// others); kept only if the map stays valid and the energy drops.
-  /// Returns the gain. On an open map, boundary vertices and vertices with
-  /// a boundary edge in their ring are not charted yet and stay (gain 0).
+  /// Returns the gain. On an open map, a ring edge on the boundary bounds
+  /// the chart like any other, the other side's vertices on it fixed in
+  /// it; boundary vertices themselves are not charted yet and stay (gain 0).
   double optimize_vertex(int side, int v);
 
   /// An optimisation of one vertex worked out ahead (plan_vertex) and

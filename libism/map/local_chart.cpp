@@ -115,6 +115,10 @@ bool InterSurfaceMap::developed_ring(int s, int v, Chart& chart) const {
   const std::size_t m = chart.ring.size();
   for (int f : chart.faces)
     if (!index_[s].residents[f].empty()) return false;
+  // (t's vertices on a boundary edge of the ring: its image bends there.)
+  if (index_[s].open)
+    for (int e : chart.boundary)
+      if (!index_[s].on_edge[e].empty()) return false;
   // A face of t laid out in the chart: its canonical layout moved rigidly.
   struct Placed {
     int face;
@@ -259,16 +263,19 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
                                                       : IS.edge(chart.ring[i], next));
   }
   if (ring_only) return true;
-  // An open map: a ring with an edge on the boundary is not charted (the
-  // other side's vertices on that edge and their edges into the ring are
-  // not laid out yet), so its centre stays where it is.
+  // An open map: a ring edge on the boundary of s lies on the boundary of
+  // t, and t's vertices on it (IS.on_edge) are fixed anchors of the ring's
+  // boundary; their edges into the ring are chords like any other.
+  bool boundary_lodgers = false;
   if (IS.open)
-    for (int e : chart.boundary)
-      if (e < 0 || IS.is_boundary(e)) return chart_fail(19);
+    for (int e : chart.boundary) {
+      if (e < 0) return chart_fail(19);
+      boundary_lodgers = boundary_lodgers || (IS.is_boundary(e) && !IS.on_edge[e].empty());
+    }
   const MetaLocation& vloc = S.location[v];
 
   // Fast path: the ring and everything in it inside one face of t.
-  bool fast = vloc.face >= 0;
+  bool fast = vloc.face >= 0 && !boundary_lodgers;
   for (std::size_t i = 0; i < m && fast; ++i) {
     const MetaLocation& loc = S.location[chart.ring[i]];
     fast = loc.face == vloc.face && S.crossings[chart.spoke[i]].empty() &&
@@ -314,9 +321,16 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
                      b = vertex_node(meta_, s, S.edges[e][1]);
       Place previous = a.place[t];
       length = 0;
-      for (std::size_t k = 0; k <= list.size(); ++k) {
+      // (A boundary edge has no break points; its image runs through t's
+      // vertices on it.)
+      const std::vector<int>* lodged =
+          IS.open && IS.is_boundary(e) && !IS.on_edge[e].empty() ? &IS.on_edge[e] : nullptr;
+      const std::size_t n = lodged ? lodged->size() : list.size();
+      for (std::size_t k = 0; k <= n; ++k) {
         Place next = b.place[t];
-        if (k < list.size()) {
+        if (k < n && lodged) {
+          next = vertex_node(meta_, t, (*lodged)[k]).place[t];
+        } else if (k < n) {
           const auto node = break_node(meta_, s, e, int(k));
           if (!node) return false;
           next = node->place[t];
@@ -336,6 +350,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
         if (!found) return false;
         previous = next;
       }
+      bent |= lodged != nullptr;
       return length > 0;
     };
     std::vector<double> radius(m), side(m);
@@ -474,6 +489,16 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       chart.boundary_loop.push_back(add_anchor(
           *node, chart.boundary_breaks.empty() ? p + u * (q - p) : chart.boundary_breaks[i][k]));
     }
+    // t's vertices on a boundary edge, in order from ring[i] (a boundary
+    // edge has no break points; the chart is not a development here).
+    if (boundary_lodgers && IS.is_boundary(e)) {
+      const auto& lodged = IS.on_edge[e];
+      for (std::size_t k = 0; k < lodged.size(); ++k) {
+        const int x = lodged[forward ? k : lodged.size() - 1 - k];
+        const double u = forward ? T.location[x].t : 1 - T.location[x].t;
+        chart.boundary_loop.push_back(add_anchor(vertex_node(meta_, t, x), p + u * (q - p)));
+      }
+    }
   }
   // t's vertices inside: under v, and in the ring's faces (where their
   // barycentric coordinates put them in the chart).
@@ -503,10 +528,13 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   };
   std::vector<Span> spans;
   for (const auto& anchor : chart.anchors) {
+    // (t's boundary edges lie on the ring's boundary: they are no chords.)
     const Place& p = anchor.node.place[t];
-    if (p.kind == Place::edge) spans.push_back({p.index, p.t, p.t});
+    if (p.kind == Place::edge && !(IT.open && IT.is_boundary(p.index)))
+      spans.push_back({p.index, p.t, p.t});
     if (p.kind == Place::vertex)
       for (int g : IT.vertex_edges[p.index]) {
+        if (IT.open && IT.is_boundary(g)) continue;
         const double at = T.edges[g][0] == p.index ? 0.0 : 1.0;
         spans.push_back({g, at, at});
       }
@@ -2233,15 +2261,10 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
 int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
   if (index_[s].open) {
-    // Open maps refine only away from the boundary yet: a split at it (of a
-    // boundary vertex, or of one whose ring has a boundary edge) is refused
-    // before anything changes.
+    // Open maps refine only inside yet: a split of a boundary vertex (whose
+    // ring is not a closed fan) is refused before anything changes.
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
-    bool at_boundary = ring_faces(s, sp.vt).empty();
-    for (int f : index_[s].vertex_faces[sp.vt])
-      for (int e : meta_.side[s].face_edges[f])
-        at_boundary = at_boundary || index_[s].is_boundary(e);
-    if (at_boundary)
+    if (ring_faces(s, sp.vt).empty())
       throw std::runtime_error(std::string(s == 0 ? "M¹" : "M²") + " split " +
                                std::to_string(next_split_[s]) + " (vertex " +
                                std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +

@@ -371,7 +371,7 @@ MapSideInput open_side(const MetaMesh& meta, int m, std::size_t extra = 0) {
   return in;
 }
 
-TEST(OpenMetaMesh, TheMapCoreOptimisesAnOpenMapAwayFromItsBoundary) {
+TEST(OpenMetaMesh, TheMapCoreOptimisesAnOpenMapUpToItsBoundary) {
   std::mt19937 rng(9);
   const PlanarMesh A = jittered_square(6, 0.3, rng), B = jittered_square(8, 0.3, rng);
   std::vector<Vec2> bent;
@@ -383,12 +383,14 @@ TEST(OpenMetaMesh, TheMapCoreOptimisesAnOpenMapAwayFromItsBoundary) {
   ASSERT_EQ(map.validate(), std::nullopt);
   const double start = map.energy();
   double energy = start;
-  std::size_t moves = 0, moved_near_boundary = 0;
+  std::size_t moves = 0, moved_near_boundary = 0, moved_over_lodgers = 0;
   const MetaIndex index = build_index(meta);
-  auto near_boundary = [&](int s, int v) {
+  // Whether v's ring has a boundary edge, and one with vertices of the
+  // other side on it (fixed anchors of its chart's boundary).
+  auto near_boundary = [&](int s, int v, bool lodgers) {
     for (int f : index[s].vertex_faces[v])
       for (int e : meta.side[s].face_edges[f])
-        if (index[s].is_boundary(e)) return true;
+        if (index[s].is_boundary(e) && (!lodgers || !index[s].on_edge[e].empty())) return true;
     return false;
   };
   for (int sweep = 0; sweep < 3; ++sweep)
@@ -400,16 +402,23 @@ TEST(OpenMetaMesh, TheMapCoreOptimisesAnOpenMapAwayFromItsBoundary) {
         EXPECT_NEAR(energy - after, gain, 1e-12 * energy);
         if (gain > 0) {
           ++moves;
-          moved_near_boundary += near_boundary(s, int(v));
+          moved_near_boundary += near_boundary(s, int(v), false);
+          moved_over_lodgers += near_boundary(s, int(v), true);
           ASSERT_EQ(map.validate(), std::nullopt)
               << "after moving vertex " << v << " of side " << s;
         }
         energy = after;
       }
-  std::printf("open square map: energy %.6f -> %.6f in %zu moves\n", start, energy, moves);
+  std::printf(
+      "open square map: energy %.6f -> %.6f in %zu moves (%zu next to the boundary, %zu over "
+      "the other side's vertices on it)\n",
+      start, energy, moves, moved_near_boundary, moved_over_lodgers);
   EXPECT_GT(moves, 20u);
   EXPECT_LT(energy, start * (1 - 1e-4));
-  EXPECT_EQ(moved_near_boundary, 0u);
+  // Vertices whose rings reach the boundary move too, also where the other
+  // side's vertices on a boundary edge are anchors of the chart.
+  EXPECT_GT(moved_near_boundary, 10u);
+  EXPECT_GT(moved_over_lodgers, 5u);
   // The boundary vertices stay where they were, on both sides.
   for (int s = 0; s < 2; ++s)
     for (std::size_t v = 0; v < meta.side[s].n_vertices(); ++v) {
@@ -453,6 +462,81 @@ TEST(OpenMetaMesh, TheTrivialMapOfTwoOpenBasesIsValidAndASplitAtTheBoundaryIsRef
   EXPECT_EQ(map.energy(), before);
   EXPECT_EQ(map.splits_applied(1), 0u);
   EXPECT_EQ(map.validate(), std::nullopt);
+}
+
+TEST(OpenMetaMesh, AnInteriorVertexWhoseRingReachesTheBoundarySplitsAndMoves) {
+  std::mt19937 rng(21);
+  const PlanarMesh A = jittered_square(5, 0.3, rng), B = jittered_square(7, 0.3, rng);
+  std::vector<Vec2> bent;
+  for (const Vec2& q : A.p) bent.push_back({q.x() * (1 + 0.4 * q.y()), q.y() + 0.1 * q.x()});
+  MetaMesh meta = planar_overlay({&A, &B}, {&bent, nullptr});
+  ASSERT_EQ(validate(meta), std::nullopt);
+  const MetaIndex index = build_index(meta);
+  // An interior vertex of B with a boundary edge holding vertices of A in
+  // its ring: its ring in order, counter-clockwise, from vl.
+  const MetaSide& SB = meta.side[1];
+  int vt = -1;
+  std::vector<int> ring;
+  std::size_t boundary_at = 0;
+  for (std::size_t v = 0; v < B.p.size() && vt < 0; ++v) {
+    const Vec2& q = B.p[v];
+    if (q.x() == 0 || q.x() == 1 || q.y() == 0 || q.y() == 1) continue;
+    const auto& around = index[1].vertex_faces[v];
+    ring.clear();
+    int f = around.front();
+    for (std::size_t k = 0; k < around.size(); ++k) {
+      const Triangle& tri = SB.faces[f];
+      const int c = tri[0] == int(v) ? 0 : tri[1] == int(v) ? 1 : 2;
+      ring.push_back(tri[(c + 1) % 3]);
+      const int e = SB.face_edges[f][(c + 1) % 3];
+      if (index[1].is_boundary(e) && !index[1].on_edge[e].empty()) vt = int(v), boundary_at = k;
+      for (int g : around) {
+        const Triangle& h = SB.faces[g];
+        const int d = h[0] == int(v) ? 0 : h[1] == int(v) ? 1 : 2;
+        if (h[(d + 1) % 3] == tri[(c + 2) % 3]) f = g;
+      }
+    }
+  }
+  ASSERT_GE(vt, 0);
+  // vl before the boundary edge, vr two ring positions after it: vs takes
+  // the faces between them, the boundary edge's among them.
+  const std::size_t r = ring.size();
+  const int vl = ring[(boundary_at + r - 1) % r], vr = ring[(boundary_at + 2) % r];
+  const Vec2 wedge = 0.5 * (B.p[ring[boundary_at]] + B.p[ring[(boundary_at + 1) % r]]);
+  const Vec2 at = B.p[vt] + 0.3 * (wedge - B.p[vt]);
+  const int vs = int(B.p.size());
+  MapSideInput b;
+  b.base_faces = B.faces;
+  for (std::size_t v = 0; v < B.p.size(); ++v) {
+    b.base_vertices.push_back(int(v));
+    b.positions.push_back({B.p[v].x(), B.p[v].y(), 0});
+  }
+  b.positions.push_back({at.x(), at.y(), 0});
+  b.n_vertices = b.positions.size();
+  b.splits.push_back({vs, vt, vl, vr, b.positions.back()});
+  meta.side[1].location.push_back({});
+  InterSurfaceMap map(meta, open_side(meta, 0), b, {0, 0});
+  ASSERT_EQ(map.validate(), std::nullopt);
+  ASSERT_EQ(map.split_next(1), vs);
+  EXPECT_EQ(map.splits_applied(1), 1u);
+  ASSERT_EQ(map.validate(), std::nullopt);
+  ASSERT_EQ(validate(swapped(map.meta())), std::nullopt);
+  // The new vertex and the split one move, over the other side's vertices
+  // on the boundary edge now in vs's ring; each move gains what it says.
+  double energy = map.energy();
+  ASSERT_TRUE(energy < HUGE_VAL);
+  std::size_t moves = 0;
+  for (int sweep = 0; sweep < 4; ++sweep)
+    for (int v : {vs, vt, vl, vr}) {
+      const double gain = map.optimize_vertex(1, v);
+      EXPECT_NEAR(energy - map.energy(), gain, 1e-12 * energy);
+      energy = map.energy();
+      moves += gain > 0;
+      ASSERT_EQ(map.validate(), std::nullopt) << "after moving " << v;
+    }
+  std::printf("split next to the boundary: %zu moves, energy %.6f\n", moves, energy);
+  EXPECT_GT(moves, 0u);
+  // A split of a boundary vertex is still refused.
 }
 
 }  // namespace
