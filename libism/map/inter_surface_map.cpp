@@ -197,6 +197,36 @@ void InterSurfaceMap::ring_faces(int s, int v, std::vector<int>& out) const {
   if (out.size() != around.size()) out.clear();
 }
 
+void InterSurfaceMap::fan_faces(int s, int v, std::vector<int>& out) const {
+  const MetaSide& side = meta_.side[s];
+  const auto& around = index_[s].vertex_faces[v];
+  out.clear();
+  auto corner = [&](int f) {
+    const Triangle& t = side.faces[f];
+    return t[0] == v ? 0 : t[1] == v ? 1 : 2;
+  };
+  // The first face: no face of v ends (counter-clockwise) where it begins.
+  int first = -1;
+  for (int f : around) {
+    const int begin = side.faces[f][(corner(f) + 1) % 3];
+    bool preceded = false;
+    for (int g : around) preceded = preceded || side.faces[g][(corner(g) + 2) % 3] == begin;
+    if (!preceded) {
+      if (first >= 0) return;  // (two boundary stretches at v)
+      first = f;
+    }
+  }
+  for (int f = first; f >= 0 && out.size() <= around.size();) {
+    out.push_back(f);
+    const int last = side.faces[f][(corner(f) + 2) % 3];
+    int next = -1;
+    for (int g : around)
+      if (side.faces[g][(corner(g) + 1) % 3] == last) next = g;
+    f = next;
+  }
+  if (out.size() != around.size()) out.clear();
+}
+
 std::vector<int> InterSurfaceMap::neighbours(int s, int v) const {
   std::vector<int> out;
   for (int f : ring_faces(s, v)) {

@@ -219,7 +219,9 @@ class InterSurfaceMap {
   /// others); kept only if the map stays valid and the energy drops.
   /// Returns the gain. On an open map, a ring edge on the boundary bounds
   /// the chart like any other, the other side's vertices on it fixed in
-  /// it; boundary vertices themselves are not charted yet and stay (gain 0).
+  /// it; a boundary vertex on a boundary edge of the other side slides
+  /// along that edge (slide_vertex), and one on a vertex of the other side
+  /// stays (gain 0).
   double optimize_vertex(int side, int v);
 
   /// An optimisation of one vertex worked out ahead (plan_vertex) and
@@ -357,7 +359,23 @@ class InterSurfaceMap {
   bool build_chart(int s, int v, Chart& chart) const;
   /// The same with the ring starting at the face (v, start, *).
   /// (With `ring_only`, only the ring's faces, vertices and edges.)
-  bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false) const;
+  /// (With `half_disc`, build_half_disc's chart.)
+  bool build_chart_from(int s, int v, int start, Chart& chart, bool ring_only = false,
+                        bool half_disc = false, const Place* slide = nullptr) const;
+  /// The chart of a boundary vertex v of an open map: its fan laid out as a
+  /// half-disc (its two boundary edges on one line), the other side's
+  /// vertices on those edges anchors on that line and v itself an anchor
+  /// between them (chart.slider), at its place or, with `slide`, at that
+  /// place on the other side's boundary edge that v lies on (between the
+  /// slider's neighbours on the line). False if v's fan has fewer than two
+  /// faces, v lies on a vertex of the other side, or the content cannot be
+  /// laid out.
+  bool build_half_disc(int s, int v, Chart& chart, const Place* slide = nullptr) const;
+  /// optimize_vertex of a boundary vertex of an open map: v slides along
+  /// the other side's boundary edge it lies on, between the other side's
+  /// vertices next to it on the boundary (a golden-section search of the
+  /// ring's energy), committed through apply() if it gains.
+  double slide_vertex(int s, int v);
   /// optimize_vertex's search in a chart built on the map as it is (line
   /// searches given up after a round that ends above `give_up_above`).
   /// Reads only the chart and what moves do not change (connectivity,
@@ -462,6 +480,10 @@ class InterSurfaceMap {
   std::vector<int> ring_faces(int side, int v) const;
   /// The same into `out` (its storage reused).
   void ring_faces(int side, int v, std::vector<int>& out) const;
+  /// A boundary vertex's faces counter-clockwise from the one whose edge
+  /// (v, next) is on the boundary (empty if v is not on exactly one
+  /// boundary stretch).
+  void fan_faces(int side, int v, std::vector<int>& out) const;
   int add_edge(int side, int u, int v);
   /// The chart of a disc of side 1 (disc_layout): one face of side 0, or
   /// two across the edge they share, the second unfolded; that edge from

@@ -67,6 +67,11 @@ struct InterSurfaceMap::Chart {
   std::vector<int> ring_anchor, boundary_loop, interior;
   std::vector<std::size_t> loop_start;  // where ring[i]'s anchor is in boundary_loop
   int centre_anchor = -1;               // the vertex of t that v sits on, if any
+  /// A half-disc (build_half_disc): ring has faces + 1 vertices, spoke[0]
+  /// and spoke.back() are v's boundary edges, and v is the anchor `slider`
+  /// on the chart's straight side.
+  bool half_disc = false;
+  int slider = -1;
   /// A piece of an edge of t inside the ring, redrawn straight between two
   /// anchors; its break points first..last-1 (crossings with the ring's
   /// inner edges, kinks) are replaced.
@@ -124,6 +129,7 @@ struct InterSurfaceMap::Chart {
     anchors.clear(), ring_anchor.clear(), boundary_loop.clear(), interior.clear();
     loop_start.clear();
     centre_anchor = -1;
+    half_disc = false, slider = -1;
     chords.clear(), fragments.clear(), chord_fragments.clear(), curved.clear();
     // (clear() walks every bucket: a large table is let go.)
     if (chord_of.bucket_count() > 256)

@@ -39,6 +39,25 @@ Eigen::Vector3d clamp_bary(Eigen::Vector3d b) {
 
 /// A point inside a simple counter-clockwise polygon (corners pos[cell[i]]):
 /// the centroid of one of its ears; nothing if it has none.
+// Angles at a chart's centre capped at 0.95 π, the excess spread over the
+// others in proportion to their room below it (their sum kept); whether
+// any changed.
+bool cap_angles(std::vector<double>& theta) {
+  bool changed = false;
+  for (int round = 0; round < 8; ++round) {
+    double excess = 0, room = 0;
+    for (double a : theta) {
+      excess += std::max(0.0, a - 0.95 * M_PI);
+      room += std::max(0.0, 0.95 * M_PI - a);
+    }
+    if (excess <= 0) break;
+    changed = true;
+    for (double& a : theta)
+      a = a > 0.95 * M_PI ? 0.95 * M_PI : a + excess * (0.95 * M_PI - a) / room;
+  }
+  return changed;
+}
+
 std::optional<Vec2> ear_point(const std::vector<Vec2>& pos, std::span<const int> cell) {
   const std::size_t n = cell.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -221,8 +240,12 @@ bool InterSurfaceMap::build_chart(int s, int v, Chart& chart) const {
   return build_chart_from(s, v, -1, chart);
 }
 
-bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
-                                       bool ring_only) const {
+bool InterSurfaceMap::build_half_disc(int s, int v, Chart& chart, const Place* slide) const {
+  return build_chart_from(s, v, -1, chart, false, true, slide);
+}
+
+bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart, bool ring_only,
+                                       bool half_disc, const Place* slide) const {
   chart.clear();
   auto chart_fail = [&](int where) {
     chart_failure_ = where;
@@ -234,9 +257,16 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   const MetaSide& T = meta_.side[t];
   const MetaSideIndex& IS = index_[s];
   const MetaSideIndex& IT = index_[t];
-  ring_faces(s, v, chart.faces);
+  if (half_disc) {
+    // A boundary vertex on a boundary edge of t (not on a vertex of t).
+    if (!IS.open || !S.location[v].on_edge()) return chart_fail(20);
+    fan_faces(s, v, chart.faces);
+    chart.half_disc = true;
+  } else {
+    ring_faces(s, v, chart.faces);
+  }
   const std::size_t m = chart.faces.size();
-  if (m < 3) return chart_fail(10);
+  if (m < (half_disc ? 2 : 3)) return chart_fail(10);
   if (start >= 0) {
     std::size_t i0 = m;
     for (std::size_t i = 0; i < m; ++i) {
@@ -253,20 +283,27 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     chart.corner.push_back(c);
     chart.ring.push_back(tri[(c + 1) % 3]);
   }
+  if (half_disc) {  // (the fan's last neighbour, across its last boundary edge)
+    const int c = chart.corner.back();
+    chart.ring.push_back(S.faces[chart.faces.back()][(c + 2) % 3]);
+  }
+  const std::size_t nr = chart.ring.size();
   for (std::size_t i = 0; i < m; ++i) {
     // Face i's edges (face_edges[f][k] joins corners k and k + 1) where its
     // third corner is the next neighbour; the edge map where the fan is open.
     const Triangle& tri = S.faces[chart.faces[i]];
-    const int c = chart.corner[i], next = chart.ring[(i + 1) % m];
+    const int c = chart.corner[i], next = chart.ring[(i + 1) % nr];
     chart.spoke.push_back(S.face_edges[chart.faces[i]][c]);
     chart.boundary.push_back(tri[(c + 2) % 3] == next ? S.face_edges[chart.faces[i]][(c + 1) % 3]
                                                       : IS.edge(chart.ring[i], next));
   }
+  if (half_disc)
+    chart.spoke.push_back(S.face_edges[chart.faces.back()][(chart.corner.back() + 2) % 3]);
   if (ring_only) return true;
   // An open map: a ring edge on the boundary of s lies on the boundary of
   // t, and t's vertices on it (IS.on_edge) are fixed anchors of the ring's
   // boundary; their edges into the ring are chords like any other.
-  bool boundary_lodgers = false;
+  bool boundary_lodgers = half_disc;
   if (IS.open)
     for (int e : chart.boundary) {
       if (e < 0) return chart_fail(19);
@@ -305,7 +342,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
   // while the ring's edges are straight across the edges of t they cross.
   if (vloc.face >= 0)
     chart.centre = from_barycentric(vloc.bary, meta_face_layout(T.lengths[vloc.face]));
-  if (vloc.face >= 0 && developed_ring(s, v, chart)) {
+  if (!half_disc && vloc.face >= 0 && developed_ring(s, v, chart)) {
     rescale = false;
     for (std::size_t i = 0; i < m; ++i)
       for (const int e : {chart.spoke[i], chart.boundary[i]})
@@ -353,114 +390,133 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       bent |= lodged != nullptr;
       return length > 0;
     };
-    std::vector<double> radius(m), side(m);
-    for (std::size_t i = 0; i < m; ++i)
-      if (!image_length(chart.spoke[i], radius[i], bent) ||
-          !image_length(chart.boundary[i], side[i], bent))
-        return chart_fail(1);
-    // Directions: each edge as it leaves v (in the layout of v's face, or
-    // around the vertex of t that v sits on, its fan unwrapped); consecutive
-    // angles scaled to sum to 2π.
-    auto first_place = [&](std::size_t i) {
-      const int e = chart.spoke[i];
-      const auto& list = S.crossings[e];
-      const bool forward = S.edges[e][0] == v;
-      if (list.empty()) return std::optional<Place>(vertex_node(meta_, s, chart.ring[i]).place[t]);
-      const auto node = break_node(meta_, s, e, forward ? 0 : int(list.size()) - 1);
-      return node ? std::optional<Place>(node->place[t]) : std::nullopt;
-    };
-    std::vector<double> direction(m);
-    double cone = 2 * M_PI;
-    if (vloc.face >= 0) {
-      // (chart.centre: set above, in this face's layout.)
+    if (half_disc) {
+      // A half-disc: v at the origin, its boundary edges along the x axis
+      // (ring[0] on the positive side), the angles between consecutive
+      // edges by the law of cosines scaled to sum to π, none above 0.95 π.
+      std::vector<double> radius(m + 1), side(m), theta(m);
+      for (std::size_t i = 0; i <= m; ++i)
+        if (!image_length(chart.spoke[i], radius[i], bent)) return chart_fail(1);
+      double total = 0;
       for (std::size_t i = 0; i < m; ++i) {
-        const auto first = first_place(i);
-        if (!first) return chart_fail(3);
-        const auto q = place_in_face(meta_, t, vloc.face, *first);
-        if (!q) return chart_fail(4);
-        direction[i] = std::atan2((*q - chart.centre).y(), (*q - chart.centre).x());
+        if (!image_length(chart.boundary[i], side[i], bent)) return chart_fail(1);
+        const double r0 = radius[i], r1 = radius[i + 1], b = side[i];
+        const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
+        theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : M_PI / double(m);
+        total += theta[i];
       }
-    } else {
-      const int x = vloc.vertex;
-      const auto& around = IT.vertex_faces[x];
-      auto corner_of = [&](int f) {
-        const Triangle& tri = T.faces[f];
-        return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
-      };
-      std::vector<int> fan{around.front()};
-      while (fan.size() < around.size()) {
-        const int f = fan.back();
-        const int last = T.faces[f][(corner_of(f) + 2) % 3];
-        int next = -1;
-        for (int g : around)
-          if (T.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
-        if (next < 0 || next == fan.front()) return chart_fail(5);
-        fan.push_back(next);
-      }
-      std::vector<double> start(fan.size() + 1, 0.0);
-      for (std::size_t j = 0; j < fan.size(); ++j) {
-        const int c = corner_of(fan[j]);
-        const Layout3 L = meta_face_layout(T.lengths[fan[j]]);
-        const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
-        start[j + 1] = start[j] + std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
-      }
-      cone = start.back();
+      for (double& a : theta) a *= M_PI / total;
+      cap_angles(theta);
       chart.centre = Vec2::Zero();
+      chart.w.resize(m + 1);
+      double phi = 0;
       for (std::size_t i = 0; i < m; ++i) {
-        const auto first = first_place(i);
-        if (!first) return chart_fail(6);
-        // The fan face the edge leaves x through, and its angle there.
-        bool found = false;
-        for (std::size_t j = 0; j < fan.size() && !found; ++j) {
-          const int f = fan[j], c = corner_of(f);
-          const auto q = place_in_face(meta_, t, f, *first);
-          if (!q) continue;
-          if (first->kind == Place::vertex && first->index != T.faces[f][(c + 1) % 3]) continue;
-          if (first->kind == Place::edge && first->index != T.face_edges[f][(c + 1) % 3]) continue;
-          const Layout3 L = meta_face_layout(T.lengths[f]);
-          const Vec2 a = L[(c + 1) % 3] - L[c], d = *q - L[c];
-          direction[i] = start[j] + std::atan2(a.x() * d.y() - a.y() * d.x(), a.dot(d));
-          found = true;
+        chart.w[i] = radius[i] * Vec2(std::cos(phi), std::sin(phi));
+        phi += theta[i];
+      }
+      chart.w[m] = Vec2(-radius[m], 0);
+    } else {
+      std::vector<double> radius(m), side(m);
+      for (std::size_t i = 0; i < m; ++i)
+        if (!image_length(chart.spoke[i], radius[i], bent) ||
+            !image_length(chart.boundary[i], side[i], bent))
+          return chart_fail(1);
+      // Directions: each edge as it leaves v (in the layout of v's face, or
+      // around the vertex of t that v sits on, its fan unwrapped); consecutive
+      // angles scaled to sum to 2π.
+      auto first_place = [&](std::size_t i) {
+        const int e = chart.spoke[i];
+        const auto& list = S.crossings[e];
+        const bool forward = S.edges[e][0] == v;
+        if (list.empty())
+          return std::optional<Place>(vertex_node(meta_, s, chart.ring[i]).place[t]);
+        const auto node = break_node(meta_, s, e, forward ? 0 : int(list.size()) - 1);
+        return node ? std::optional<Place>(node->place[t]) : std::nullopt;
+      };
+      std::vector<double> direction(m);
+      double cone = 2 * M_PI;
+      if (vloc.face >= 0) {
+        // (chart.centre: set above, in this face's layout.)
+        for (std::size_t i = 0; i < m; ++i) {
+          const auto first = first_place(i);
+          if (!first) return chart_fail(3);
+          const auto q = place_in_face(meta_, t, vloc.face, *first);
+          if (!q) return chart_fail(4);
+          direction[i] = std::atan2((*q - chart.centre).y(), (*q - chart.centre).x());
         }
-        if (!found) return chart_fail(7);
+      } else {
+        const int x = vloc.vertex;
+        const auto& around = IT.vertex_faces[x];
+        auto corner_of = [&](int f) {
+          const Triangle& tri = T.faces[f];
+          return tri[0] == x ? 0 : tri[1] == x ? 1 : 2;
+        };
+        std::vector<int> fan{around.front()};
+        while (fan.size() < around.size()) {
+          const int f = fan.back();
+          const int last = T.faces[f][(corner_of(f) + 2) % 3];
+          int next = -1;
+          for (int g : around)
+            if (T.faces[g][(corner_of(g) + 1) % 3] == last) next = g;
+          if (next < 0 || next == fan.front()) return chart_fail(5);
+          fan.push_back(next);
+        }
+        std::vector<double> start(fan.size() + 1, 0.0);
+        for (std::size_t j = 0; j < fan.size(); ++j) {
+          const int c = corner_of(fan[j]);
+          const Layout3 L = meta_face_layout(T.lengths[fan[j]]);
+          const Vec2 a = L[(c + 1) % 3] - L[c], b = L[(c + 2) % 3] - L[c];
+          start[j + 1] = start[j] + std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+        }
+        cone = start.back();
+        chart.centre = Vec2::Zero();
+        for (std::size_t i = 0; i < m; ++i) {
+          const auto first = first_place(i);
+          if (!first) return chart_fail(6);
+          // The fan face the edge leaves x through, and its angle there.
+          bool found = false;
+          for (std::size_t j = 0; j < fan.size() && !found; ++j) {
+            const int f = fan[j], c = corner_of(f);
+            const auto q = place_in_face(meta_, t, f, *first);
+            if (!q) continue;
+            if (first->kind == Place::vertex && first->index != T.faces[f][(c + 1) % 3]) continue;
+            if (first->kind == Place::edge && first->index != T.face_edges[f][(c + 1) % 3])
+              continue;
+            const Layout3 L = meta_face_layout(T.lengths[f]);
+            const Vec2 a = L[(c + 1) % 3] - L[c], d = *q - L[c];
+            direction[i] = start[j] + std::atan2(a.x() * d.y() - a.y() * d.x(), a.dot(d));
+            found = true;
+          }
+          if (!found) return chart_fail(7);
+        }
       }
-    }
-    // Angles between consecutive edges: by the law of cosines on the lengths
-    // of their images (paper §5.1), or, where those lengths break the
-    // triangle inequality, as the edges leave v; scaled to sum to 2π, none
-    // reaching π (so the ring is star-shaped around v in the chart).
-    std::vector<double> theta(m);
-    double total = 0, local_total = 0;
-    for (std::size_t i = 0; i < m; ++i) {
-      double d = direction[(i + 1) % m] - direction[i];
-      d = std::fmod(std::fmod(d, cone) + cone, cone);
-      if (!(d > 0)) return chart_fail(8);
-      local_total += d;
-      const double r0 = radius[i], r1 = radius[(i + 1) % m], b = side[i];
-      const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
-      theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : d * 2 * M_PI / cone;
-      total += theta[i];
-    }
-    if (!(total > 0) || local_total > 2 * cone + 1e-9) return chart_fail(9);
-    rescale = vloc.face < 0 || std::abs(total - 2 * M_PI) > 1e-9;
-    for (double& a : theta) a *= 2 * M_PI / total;
-    for (int round = 0; round < 8; ++round) {
-      double excess = 0, room = 0;
-      for (double a : theta) {
-        excess += std::max(0.0, a - 0.95 * M_PI);
-        room += std::max(0.0, 0.95 * M_PI - a);
+      // Angles between consecutive edges: by the law of cosines on the lengths
+      // of their images (paper §5.1), or, where those lengths break the
+      // triangle inequality, as the edges leave v; scaled to sum to 2π, none
+      // reaching π (so the ring is star-shaped around v in the chart).
+      std::vector<double> theta(m);
+      double total = 0, local_total = 0;
+      for (std::size_t i = 0; i < m; ++i) {
+        double d = direction[(i + 1) % m] - direction[i];
+        d = std::fmod(std::fmod(d, cone) + cone, cone);
+        if (!(d > 0)) return chart_fail(8);
+        local_total += d;
+        const double r0 = radius[i], r1 = radius[(i + 1) % m], b = side[i];
+        const double c = (r0 * r0 + r1 * r1 - b * b) / (2 * r0 * r1);
+        theta[i] = c > -1 + 1e-9 && c < 1 - 1e-9 ? std::acos(c) : d * 2 * M_PI / cone;
+        total += theta[i];
       }
-      if (excess <= 0) break;
-      rescale = true;
-      for (double& a : theta)
-        a = a > 0.95 * M_PI ? 0.95 * M_PI : a + excess * (0.95 * M_PI - a) / room;
-    }
-    total = 2 * M_PI;
-    chart.w.resize(m);
-    double phi = vloc.face >= 0 ? direction[0] : 0.0;
-    for (std::size_t i = 0; i < m; ++i) {
-      chart.w[i] = chart.centre + radius[i] * Vec2(std::cos(phi), std::sin(phi));
-      phi += theta[i] * 2 * M_PI / total;
+      if (!(total > 0) || local_total > 2 * cone + 1e-9) return chart_fail(9);
+      rescale = vloc.face < 0 || std::abs(total - 2 * M_PI) > 1e-9;
+      for (double& a : theta) a *= 2 * M_PI / total;
+      if (cap_angles(theta)) rescale = true;
+      total = 2 * M_PI;
+      chart.w.resize(m);
+      double phi = vloc.face >= 0 ? direction[0] : 0.0;
+      for (std::size_t i = 0; i < m; ++i) {
+        chart.w[i] = chart.centre + radius[i] * Vec2(std::cos(phi), std::sin(phi));
+        phi += theta[i] * 2 * M_PI / total;
+      }
     }
   }
 
@@ -471,15 +527,16 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     if (added) chart.anchors.push_back({node, pos});
     return it->second;
   };
-  for (std::size_t i = 0; i < m; ++i) {
+  for (std::size_t i = 0; i < nr; ++i) {
     const int a = add_anchor(vertex_node(meta_, s, chart.ring[i]), chart.w[i]);
     chart.ring_anchor.push_back(a);
     chart.loop_start.push_back(chart.boundary_loop.size());
     chart.boundary_loop.push_back(a);
+    if (i == m) break;  // (a half-disc's last neighbour)
     const int e = chart.boundary[i];
     const auto& list = S.crossings[e];
     const bool forward = S.edges[e][0] == chart.ring[i];
-    const Vec2 &p = chart.w[i], &q = chart.w[(i + 1) % m];
+    const Vec2 &p = chart.w[i], &q = chart.w[(i + 1) % nr];
     for (std::size_t k = 0; k < list.size(); ++k) {
       const int n = int(forward ? k : list.size() - 1 - k);
       if (list[n].is_kink()) bent = true;
@@ -500,6 +557,50 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
       }
     }
   }
+  if (half_disc) {
+    // Back along v's boundary edges: t's vertices on (v, ring[m]) from
+    // ring[m], v itself (at its place, or slid to `slide` between its
+    // neighbours on the line), t's vertices on (v, ring[0]).
+    auto lodgers = [&](int e, bool from_v) {
+      std::vector<std::pair<double, int>> list;  // (parameter from v, vertex of t)
+      for (int x : IS.on_edge[e])
+        list.push_back({S.edges[e][0] == v ? T.location[x].t : 1 - T.location[x].t, x});
+      std::sort(list.begin(), list.end());
+      if (!from_v) std::reverse(list.begin(), list.end());
+      return list;
+    };
+    for (const auto& [u, x] : lodgers(chart.spoke[m], false))
+      chart.boundary_loop.push_back(add_anchor(vertex_node(meta_, t, x), u * chart.w[m]));
+    const auto after = lodgers(chart.spoke[0], true);
+    MetaNode self = vertex_node(meta_, s, v);
+    Vec2 at = chart.centre;
+    if (slide) {
+      // Where the slide puts v on t's boundary edge, between the anchors
+      // before and after it on the line.
+      const int before = chart.boundary_loop.back();
+      const int next = after.empty() ? chart.ring_anchor[0] : -1;
+      const Vec2 p_next = after.empty() ? chart.w[0] : after.front().first * chart.w[0];
+      const Place& q_before = chart.anchors[before].node.place[t];
+      const Place q_next = next >= 0 ? chart.anchors[next].node.place[t]
+                                     : vertex_node(meta_, t, after.front().second).place[t];
+      auto along = [&](const Place& q) {
+        const int g = slide->index;
+        if (q.kind == Place::edge && q.index == g) return q.t;
+        if (q.kind == Place::vertex && q.index == T.edges[g][0]) return 0.0;
+        if (q.kind == Place::vertex && q.index == T.edges[g][1]) return 1.0;
+        return std::nan("");
+      };
+      const double a = along(q_before), b = along(q_next);
+      const double lambda = (slide->t - a) / (b - a);
+      if (slide->kind != Place::edge || !(lambda > 0 && lambda < 1)) return chart_fail(22);
+      at = chart.anchors[before].pos + lambda * (p_next - chart.anchors[before].pos);
+      self.place[t] = *slide;
+    }
+    chart.slider = add_anchor(self, at);
+    chart.boundary_loop.push_back(chart.slider);
+    for (const auto& [u, x] : after)
+      chart.boundary_loop.push_back(add_anchor(vertex_node(meta_, t, x), u * chart.w[0]));
+  }
   // t's vertices inside: under v, and in the ring's faces (where their
   // barycentric coordinates put them in the chart).
   if (vloc.vertex >= 0) {
@@ -511,7 +612,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     std::array<Vec2, 3> corner;
     corner[c] = chart.centre;
     corner[(c + 1) % 3] = chart.w[i];
-    corner[(c + 2) % 3] = chart.w[(i + 1) % m];
+    corner[(c + 2) % 3] = chart.w[(i + 1) % nr];
     for (int x : IS.residents[f]) {
       const Eigen::Vector3d& b = T.location[x].bary;
       chart.interior.push_back(add_anchor(vertex_node(meta_, t, x), from_barycentric(b, corner)));
@@ -783,6 +884,7 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart,
     relax(true);
     laid_out = make_fragments();
   }
+  if (!laid_out && half_disc) return chart_fail(23);
   if (!laid_out) {
     // Convex: the ring's vertices on a circle at the chart's angles, the
     // boundary's break points on the straight sides between them.
@@ -1753,6 +1855,20 @@ void InterSurfaceMap::ring_layout(const Chart& chart, Layout& layout) const {
   const std::size_t m = chart.faces.size();
   layout.inner.clear(), layout.tris.clear(), layout.spokes.clear();
   layout.clearance = Layout{}.clearance;
+  if (chart.half_disc) {
+    // v on its anchor of the chart's straight side; its boundary edges run
+    // along that side (no inner edges).
+    layout.inner.push_back({chart.v, chart.anchors[chart.slider].pos, chart.slider});
+    for (std::size_t i = 0; i < m; ++i) {
+      std::array<int, 3> ref;
+      const int c = chart.corner[i];
+      ref[c] = -1, ref[(c + 1) % 3] = int(i), ref[(c + 2) % 3] = int(i + 1);
+      layout.tris.push_back(
+          {chart.faces[i], ref, meta_face_layout(meta_.side[chart.s].lengths[chart.faces[i]])});
+      if (i > 0) layout.spokes.push_back({-1, int(i), chart.spoke[i]});
+    }
+    return;
+  }
   layout.inner.push_back({chart.v, chart.centre, -1});
   for (std::size_t i = 0; i < m; ++i) {
     std::array<int, 3> ref;
@@ -1861,6 +1977,90 @@ double InterSurfaceMap::finish_move(int s, const std::vector<int>& faces, double
   return *gain;
 }
 
+double InterSurfaceMap::slide_vertex(int s, int v) {
+  const int t = 1 - s;
+  Chart chart;
+  if (!build_half_disc(s, v, chart)) return 0.0;
+  const MetaSide& S = meta_.side[s];
+  const MetaSide& T = meta_.side[t];
+  const int g = S.location[v].edge;
+  // The slider's neighbours on the chart's straight side, and where they
+  // are along g (its ends, or other points of it).
+  const auto& loop = chart.boundary_loop;
+  const std::size_t k =
+      std::size_t(std::find(loop.begin(), loop.end(), chart.slider) - loop.begin());
+  auto along = [&](int anchor) {
+    const Place& q = chart.anchors[anchor].node.place[t];
+    if (q.kind == Place::edge && q.index == g) return q.t;
+    if (q.kind == Place::vertex && q.index == T.edges[g][0]) return 0.0;
+    if (q.kind == Place::vertex && q.index == T.edges[g][1]) return 1.0;
+    return std::nan("");
+  };
+  const double lo = along(loop[k - 1]), hi = along(loop[(k + 1) % loop.size()]);
+  if (!(std::isfinite(lo) && std::isfinite(hi) && lo != hi)) return 0.0;
+  const std::vector<int> faces = chart.faces;
+  const double before = faces_energy(s, faces);
+  if (!(before < HUGE_VAL)) return 0.0;
+  ++stats_.optimizations;
+  ++stats_.general;
+  Layout layout;
+  Chart at;
+  auto energy = [&](double lambda, Proposal* out) {
+    const Place place{Place::edge, g, lo + lambda * (hi - lo), Eigen::Vector3d::Zero()};
+    if (!build_half_disc(s, v, at, &place)) return HUGE_VAL;
+    ring_layout(at, layout);
+    const Vec2 p = layout.inner[0].pos;
+    for (std::size_t i = 0; i + 1 < at.w.size(); ++i)
+      if (!(orient(p, at.w[i], at.w[i + 1]) > 0)) return HUGE_VAL;
+    ++stats_.evaluations;
+    return evaluate(at, layout, out);
+  };
+  // A golden-section search along g between the neighbours (kept 1e-3 of
+  // the gap from them), from where v is.
+  const double margin = 1e-3, phi = 0.5 * (std::sqrt(5.0) - 1);
+  double a = margin, b = 1 - margin;
+  double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
+  double e1 = energy(x1, nullptr), e2 = energy(x2, nullptr);
+  for (int round = 0; round < 24; ++round) {
+    if (e1 <= e2) {
+      b = x2, x2 = x1, e2 = e1;
+      x1 = b - phi * (b - a);
+      e1 = energy(x1, nullptr);
+    } else {
+      a = x1, x1 = x2, e1 = e2;
+      x2 = a + phi * (b - a);
+      e2 = energy(x2, nullptr);
+    }
+  }
+  const double best = e1 <= e2 ? x1 : x2;
+  if (!(std::min(e1, e2) < before * (1 - 1e-12))) return 0.0;
+  thread_local Proposal proposal;
+  const double predicted = energy(best, &proposal);
+  if (!(predicted < before * (1 - 1e-12))) return 0.0;
+  // v's new place on g, and the new parameters of t's vertices on v's
+  // boundary edges (fixed in the chart, measured from v's new position).
+  MetaLocation here;
+  const auto& gf = index_[t].edge_faces[g];
+  set_edge_location(here, T, gf[0] >= 0 ? gf[0] : gf[1], g, lo + best * (hi - lo));
+  proposal.locations[0].push_back({v, here});
+  const Vec2 p = at.anchors[at.slider].pos;
+  const std::size_t m = at.faces.size();
+  for (const auto& [e, face, end] : {std::tuple{at.spoke[0], at.faces[0], at.w[0]},
+                                     std::tuple{at.spoke[m], at.faces[m - 1], at.w[m]}})
+    for (int x : index_[s].on_edge[e]) {
+      const auto it = std::find_if(at.anchors.begin(), at.anchors.end(), [&](const auto& a) {
+        return a.node.place[t].kind == Place::vertex && a.node.place[t].index == x &&
+               a.node.place[s].kind == Place::edge;
+      });
+      if (it == at.anchors.end()) return 0.0;
+      const double u = (it->pos - p).norm() / (end - p).norm();
+      MetaLocation there;
+      set_edge_location(there, S, face, e, S.edges[e][0] == v ? u : 1 - u);
+      proposal.locations[1].push_back({x, there});
+    }
+  return finish_move(s, faces, before, proposal, predicted, false);
+}
+
 double InterSurfaceMap::optimize_vertex(int s, int v) {
   VertexPlan unplanned;
   unplanned.side = s, unplanned.vertex = v;
@@ -1903,6 +2103,9 @@ double InterSurfaceMap::commit_plan(VertexPlan& plan) {
   const int s = plan.side, v = plan.vertex;
   last_chart_ = ChartKind::none;
   if (pinned_[s][v] || !is_active(s, v)) return 0.0;
+  // A boundary vertex of an open map on a boundary edge of the other side
+  // slides along it.
+  if (index_[s].open && meta_.side[s].location[v].on_edge()) return slide_vertex(s, v);
   // Per-thread scratch: the chart and layout keep their lists' storage
   // from vertex to vertex (nothing here optimises a vertex re-entrantly).
   thread_local Chart chart;
