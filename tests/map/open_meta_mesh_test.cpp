@@ -468,6 +468,51 @@ TEST(OpenMetaMesh, TheTrivialMapOfTwoOpenBasesIsValidAndASplitAtTheBoundaryIsRef
   EXPECT_EQ(map.validate(), std::nullopt);
 }
 
+TEST(OpenMetaMesh, BoundaryVerticesSlideBackToTheIdentity) {
+  // B's metric is its own drawing with its boundary vertices moved along
+  // their sides (by up to 2 % of the side): the map that is an isometry
+  // puts them there, which only sliding along A's boundary reaches.
+  std::mt19937 rng(5);
+  const PlanarMesh A = jittered_square(6, 0.3, rng), B = jittered_square(5, 0.3, rng);
+  std::uniform_real_distribution<double> shift(-0.02, 0.02);
+  std::vector<Vec2> drawn = B.p;
+  for (Vec2& q : drawn) {
+    const bool on_x = q.x() == 0 || q.x() == 1, on_y = q.y() == 0 || q.y() == 1;
+    if (on_x && !on_y) q.y() += shift(rng);
+    if (on_y && !on_x) q.x() += shift(rng);
+  }
+  const MetaMesh meta = planar_overlay({&A, &B}, {nullptr, &drawn});
+  ASSERT_EQ(validate(meta), std::nullopt);
+  const double start = measures(meta)->symmetric_efficiency;
+  InterSurfaceMap map(meta, open_side(meta, 0), open_side(meta, 1), {0, 0});
+  std::size_t slid = 0;
+  for (int sweep = 0; sweep < 12; ++sweep)
+    for (int s = 0; s < 2; ++s)
+      for (std::size_t v = 0; v < meta.side[s].n_vertices(); ++v) {
+        const bool boundary = map.meta().side[s].location[v].on_edge();
+        slid += boundary && map.optimize_vertex(s, int(v)) > 0;
+        if (!boundary) map.optimize_vertex(s, int(v));
+      }
+  ASSERT_EQ(map.validate(), std::nullopt);
+  const double end = measures(map.meta())->symmetric_efficiency;
+  // Where B's boundary vertices went along their sides, against where
+  // its metric puts them.
+  double worst = 0, before = 0;
+  for (std::size_t v = 0; v < B.p.size(); ++v) {
+    const MetaLocation& loc = map.meta().side[1].location[v];
+    if (!loc.on_edge()) continue;
+    const Vec2 at = point_of(A, loc.face, loc.bary);
+    worst = std::max(worst, (at - drawn[v]).norm());
+    before = std::max(before, (B.p[v] - drawn[v]).norm());
+  }
+  std::printf(
+      "boundary slid back: efficiency %.6f -> %.6f, %zu slides; B's boundary vertices %.2e -> "
+      "%.2e from where its metric puts them\n",
+      start, end, slid, before, worst);
+  EXPECT_LT(1 - end, 0.25 * (1 - start));
+  EXPECT_LT(worst, 0.25 * before);
+}
+
 TEST(OpenMetaMesh, AnInteriorVertexWhoseRingReachesTheBoundarySplitsAndMoves) {
   std::mt19937 rng(21);
   const PlanarMesh A = jittered_square(5, 0.3, rng), B = jittered_square(7, 0.3, rng);
