@@ -198,10 +198,12 @@ class InterSurfaceMap {
   /// first round places is placed as with one round). After the last it
   /// throws std::runtime_error, the map still valid at the split before.
   /// A held feature (a pinned vertex) is never moved by a split. On an open
-  /// map (sides with boundaries) a split of a boundary vertex throws
-  /// std::runtime_error before anything changes: open maps are refined
-  /// only inside yet (an interior vertex whose ring reaches the boundary
-  /// splits like any other). The
+  /// map (sides with boundaries) an interior vertex whose ring reaches the
+  /// boundary splits like any other; a boundary split (one wing -1) puts
+  /// the new vertex in place on the other side's boundary next to vt
+  /// (try_boundary_split), for the slides to place; a split of a boundary
+  /// vertex with both wings, or of one on a vertex of the other side,
+  /// throws std::runtime_error before anything changes. The
   /// candidate places are evaluated in parallel (TBB, in the calling
   /// thread's arena); the result does not depend on the number of threads.
   int split_next(int side);
@@ -416,6 +418,18 @@ class InterSurfaceMap {
   /// set up.
   bool split_in_place(const Chart& chart, std::size_t last, int vs, int e_vl, int e_vr, double eps,
                       Proposal& out) const;
+  /// split_in_place's copy of vt's edge `old_edge` as vs's new edge
+  /// `new_edge`: its records shifted by eps to the left of vt -> its other
+  /// end (side 1) or to the right (-1) across the edges of t it crosses;
+  /// their new records go to `other` (started from their lists). False if
+  /// a shifted point leaves its face.
+  bool shifted_copy(int s, int vt, int vs, int old_edge, int new_edge, double side, double eps,
+                    std::map<int, std::vector<MetaCrossing>>& other,
+                    std::vector<MetaCrossing>& copy) const;
+  /// try_split of a boundary split (one wing -1): vs and vt both on the
+  /// boundary, one new face; vs placed in place on the other side's
+  /// boundary between vt and the next boundary vertex of either side.
+  int try_boundary_split(int side, bool place, double cap);
   /// Each edge of vertex x of a side -> its direction around x, a full turn
   /// scaled to 2π.
   std::map<int, double> vertex_edge_angles(int side, int x) const;

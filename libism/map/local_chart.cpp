@@ -1697,6 +1697,72 @@ double InterSurfaceMap::evaluate(const Chart& chart, const Layout& layout, Propo
 
 // ---------------------------------------------------------------- splits in place
 
+bool InterSurfaceMap::shifted_copy(int s, int vt, int vs, int old_edge, int new_edge, double side,
+                                   double eps, std::map<int, std::vector<MetaCrossing>>& other,
+                                   std::vector<MetaCrossing>& copy) const {
+  const int t = 1 - s;
+  const MetaSide& S = meta_.side[s];
+  const MetaSide& T = meta_.side[t];
+  const Place pt = vertex_node(meta_, s, vt).place[t];
+  std::vector<int> faces_a, faces_b;
+  auto common_face = [&](const Place& a, const Place& b) {
+    place_faces(meta_, index_, t, a, faces_a);
+    place_faces(meta_, index_, t, b, faces_b);
+    for (int f : faces_a)
+      if (std::find(faces_b.begin(), faces_b.end(), f) != faces_b.end()) {
+        if (a.kind == Place::vertex && b.kind == Place::vertex) continue;  // along an edge of t
+        return f;
+      }
+    return -1;
+  };
+  copy.clear();
+  const auto& list = S.crossings[old_edge];
+  const bool forward = S.edges[old_edge][0] == vt;
+  const bool new_forward = S.edges[new_edge][0] == vs;
+  Place previous = pt;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::size_t n = forward ? i : list.size() - 1 - i;
+    const MetaCrossing& c = list[n];
+    const double u = forward ? c.here : 1 - c.here;  // along vt -> w
+    const auto node = break_node(meta_, s, old_edge, int(n));
+    if (!node) return false;
+    const Place here = node->place[t];
+    const int f = common_face(previous, here);
+    if (f < 0) return false;
+    const Vec2 p0 = *place_in_face(meta_, t, f, previous), p1 = *place_in_face(meta_, t, f, here);
+    const Vec2 dir = p1 - p0;
+    if (c.is_kink()) {
+      const std::array<Vec2, 3> Lk = meta_face_layout(T.lengths[c.face]);
+      const Vec2 at = from_barycentric(c.bary, Lk);
+      const Vec2 shifted = at + side * eps * Vec2(-dir.y(), dir.x());
+      const Eigen::Vector3d b = barycentric(shifted, Lk[0], Lk[1], Lk[2]);
+      if (!(b.minCoeff() > 0)) return false;
+      copy.push_back({-1, new_forward ? u : 1 - u, 0, c.face, b / b.sum()});
+    } else {
+      // Along the crossed edge g towards vs's side, by eps of the way
+      // to the nearest other break point on g in that direction.
+      const int g = c.edge;
+      const Vec2 ga =
+          *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][0], 0, Eigen::Vector3d::Zero()});
+      const Vec2 gb =
+          *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][1], 0, Eigen::Vector3d::Zero()});
+      const double cross = dir.x() * (gb - ga).y() - dir.y() * (gb - ga).x();
+      const double sign = (cross > 0) == (side > 0) ? 1.0 : -1.0;
+      const auto& glist = other.count(g) ? other[g] : T.crossings[g];
+      double room = sign > 0 ? 1 - c.there : c.there;
+      for (const auto& o : glist)
+        if ((o.here - c.there) * sign > 0) room = std::min(room, std::abs(o.here - c.there));
+      const double there = c.there + sign * eps * room;
+      copy.push_back({g, new_forward ? u : 1 - u, there});
+      auto& target_list = other.try_emplace(g, T.crossings[g]).first->second;
+      target_list.push_back({new_edge, there, new_forward ? u : 1 - u});
+    }
+    previous = here;
+  }
+  std::sort(copy.begin(), copy.end(), [](const auto& a, const auto& b) { return a.here < b.here; });
+  return true;
+}
+
 bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int vs, int e_vl,
                                      int e_vr, double eps, Proposal& out) const {
   // After the connectivity change: the edges (vs, ring[i]), 0 < i < last,
@@ -1789,57 +1855,12 @@ bool InterSurfaceMap::split_in_place(const Chart& chart, std::size_t last, int v
   // (left of vt -> vl, right of vt -> vr).
   std::map<int, std::vector<MetaCrossing>> other;
   for (int k = 0; k < 2; ++k) {
-    const int old_edge = chart.spoke[k == 0 ? 0 : last], w = chart.ring[k == 0 ? 0 : last];
     const int new_edge = k == 0 ? e_vl : e_vr;
-    const double side = k == 0 ? 1.0 : -1.0;
-    const auto& list = S.crossings[old_edge];
-    const bool forward = S.edges[old_edge][0] == vt;
-    const bool new_forward = S.edges[new_edge][0] == vs;
     std::vector<MetaCrossing> copy;
-    Place previous = pt;
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::size_t n = forward ? i : list.size() - 1 - i;
-      const MetaCrossing& c = list[n];
-      const double u = forward ? c.here : 1 - c.here;  // along vt -> w
-      const auto node = break_node(meta_, s, old_edge, int(n));
-      if (!node) return false;
-      const Place here = node->place[t];
-      const int f = common_face(previous, here);
-      if (f < 0) return false;
-      const Vec2 p0 = *place_in_face(meta_, t, f, previous), p1 = *place_in_face(meta_, t, f, here);
-      const Vec2 dir = p1 - p0;
-      if (c.is_kink()) {
-        const std::array<Vec2, 3> Lk = meta_face_layout(T.lengths[c.face]);
-        const Vec2 at = from_barycentric(c.bary, Lk);
-        const Vec2 shifted = at + side * eps * Vec2(-dir.y(), dir.x());
-        const Eigen::Vector3d b = barycentric(shifted, Lk[0], Lk[1], Lk[2]);
-        if (!(b.minCoeff() > 0)) return false;
-        copy.push_back({-1, new_forward ? u : 1 - u, 0, c.face, b / b.sum()});
-      } else {
-        // Along the crossed edge g towards vs's side, by eps of the way
-        // to the nearest other break point on g in that direction.
-        const int g = c.edge;
-        const Vec2 ga =
-            *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][0], 0, Eigen::Vector3d::Zero()});
-        const Vec2 gb =
-            *place_in_face(meta_, t, f, {Place::vertex, T.edges[g][1], 0, Eigen::Vector3d::Zero()});
-        const double cross = dir.x() * (gb - ga).y() - dir.y() * (gb - ga).x();
-        const double sign = (cross > 0) == (side > 0) ? 1.0 : -1.0;
-        const auto& glist = other.count(g) ? other[g] : T.crossings[g];
-        double room = sign > 0 ? 1 - c.there : c.there;
-        for (const auto& o : glist)
-          if ((o.here - c.there) * sign > 0) room = std::min(room, std::abs(o.here - c.there));
-        const double there = c.there + sign * eps * room;
-        copy.push_back({g, new_forward ? u : 1 - u, there});
-        auto& target_list = other.try_emplace(g, T.crossings[g]).first->second;
-        target_list.push_back({new_edge, there, new_forward ? u : 1 - u});
-      }
-      previous = here;
-    }
-    std::sort(copy.begin(), copy.end(),
-              [](const auto& a, const auto& b) { return a.here < b.here; });
+    if (!shifted_copy(s, vt, vs, chart.spoke[k == 0 ? 0 : last], new_edge, k == 0 ? 1.0 : -1.0, eps,
+                      other, copy))
+      return false;
     out.lists.push_back({new_edge, std::move(copy)});
-    (void)w;
   }
   for (auto& [g, list] : other) {
     std::sort(list.begin(), list.end(),
@@ -2186,8 +2207,165 @@ int InterSurfaceMap::add_edge(int s, int u, int v) {
   return e;
 }
 
+int InterSurfaceMap::try_boundary_split(int s, bool place, double cap) {
+  const VertexSplit& sp = input_[s].splits[next_split_[s]];
+  const std::string where = std::string(s == 0 ? "M¹" : "M²") + " split " +
+                            std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
+                            " from " + std::to_string(sp.vt) + ")";
+  const int t = 1 - s, vt = sp.vt, vs = sp.vs;
+  // ccw: the fan from (vt, vl, *) to the boundary moves to vs, new face
+  // (vs, vt, vl); else the fan from the boundary to (vt, *, vr), new face
+  // (vt, vs, vr).
+  const bool ccw = sp.vr < 0;
+  const int wing = ccw ? sp.vl : sp.vr;
+  Chart chart;
+  if (!build_chart_from(s, vt, -1, chart, true, true))
+    throw std::runtime_error(where +
+                             ": a boundary split of a vertex that is not on a boundary edge of "
+                             "the other surface, which open maps do not refine yet");
+  const std::size_t m = chart.faces.size();
+  std::size_t j = m + 1;
+  for (std::size_t i = 0; i <= m; ++i)
+    if (chart.ring[i] == wing) j = i;
+  if (j > m)
+    throw std::runtime_error(where + ": the wing is not a neighbour of the vertex to split");
+  if (ccw ? j == m : j == 0)
+    throw std::runtime_error(where +
+                             ": a boundary split adding a face outside the boundary, which open "
+                             "maps do not refine yet");
+  const std::size_t f_lo = ccw ? j : 0, f_hi = ccw ? m : j;          // moved faces
+  const std::size_t e_lo = ccw ? j + 1 : 0, e_hi = ccw ? m + 1 : j;  // renamed spokes
+  const int moved_boundary = ccw ? chart.spoke[m] : chart.spoke[0];  // becomes vs's
+  const int far = ccw ? chart.ring[m] : chart.ring[0];
+
+  const double before = place ? faces_energy(s, chart.faces) : HUGE_VAL;
+  const double limit = before < HUGE_VAL && cap < HUGE_VAL ? cap * before : HUGE_VAL;
+  touch_under(s, chart.faces);
+  MetaSide& S = meta_.side[s];
+  MetaSideIndex& IS = index_[s];
+  const SplitUndo undo = split_undo(s, chart, sp);
+  // The other side's vertices on the boundary edge vs takes keep their
+  // places; their parameters follow its ends' order.
+  auto flip_lodgers = [&](int e) {
+    auto& list = IS.on_edge[e];
+    for (int x : list) meta_.side[t].location[x].t = 1 - meta_.side[t].location[x].t;
+    std::reverse(list.begin(), list.end());
+  };
+  bool lodgers_flipped = false;
+  for (std::size_t i = e_lo; i < e_hi; ++i) {
+    // Edge (vt, w) becomes (vs, w): same records, renamed.
+    const int e = chart.spoke[i], w = chart.ring[i];
+    IS.edge_of.erase(undirected_edge_key(vt, w));
+    const bool flip = (vt < w) != (vs < w);
+    S.edges[e] = {std::min(vs, w), std::max(vs, w)};
+    IS.edge_faces[e] = {-1, -1};  // (set again below from its faces: one, on the boundary)
+    IS.edge_of[undirected_edge_key(vs, w)] = e;
+    std::erase(IS.vertex_edges[vt], e);
+    IS.vertex_edges[vs].push_back(e);
+    if (!flip) continue;
+    auto& list = S.crossings[e];
+    std::reverse(list.begin(), list.end());
+    std::vector<int> others;
+    for (auto& c : list) {
+      c.here = 1 - c.here;
+      if (!c.is_kink()) others.push_back(c.edge);
+    }
+    std::sort(others.begin(), others.end());
+    others.erase(std::unique(others.begin(), others.end()), others.end());
+    for (int g : others)
+      for (auto& o : meta_.side[t].crossings[g])
+        if (o.edge == e) o.there = 1 - o.there;
+    if (e == moved_boundary) flip_lodgers(e), lodgers_flipped = true;
+  }
+  for (std::size_t i = f_lo; i < f_hi; ++i) {
+    const int f = chart.faces[i];
+    area_[s] -= face_area(s, f);
+    S.faces[f][chart.corner[i]] = vs;
+    if (!S.positions.empty()) S.lengths[f] = face_lengths(s, S.faces[f]);
+    area_[s] += face_area(s, f);
+    std::erase(IS.vertex_faces[vt], f);
+    IS.vertex_faces[vs].push_back(f);
+  }
+  const int e_w = add_edge(s, vs, wing);
+  add_edge(s, vs, vt);  // (on the boundary)
+  const int fa = int(S.faces.size());
+  const Triangle tri = ccw ? Triangle{vs, vt, wing} : Triangle{vt, vs, wing};
+  S.faces.push_back(tri);
+  S.lengths.push_back(S.positions.empty() ? FaceLengths{1, 1, 1} : face_lengths(s, tri));
+  S.face_edges.push_back({});
+  IS.residents.emplace_back();
+  for (int x : tri) IS.vertex_faces[x].push_back(fa);
+  area_[s] += face_area(s, fa);
+  std::vector<int> changed(chart.faces.begin(), chart.faces.end());
+  changed.push_back(fa);
+  for (int f : changed)
+    for (int k = 0; k < 3; ++k) {
+      const int u = S.faces[f][k], w = S.faces[f][(k + 1) % 3];
+      const int e = IS.edge(u, w);
+      S.face_edges[f][k] = e;
+      IS.edge_faces[e][u == S.edges[e][0] ? 0 : 1] = f;
+    }
+  ++active_[s];
+  ++next_split_[s];
+  ++stats_.splits;
+  pinned_[s][vs] = 0;
+  auto undo_all = [&] {
+    if (lodgers_flipped) flip_lodgers(moved_boundary);
+    restore(s, undo);
+  };
+  if (!place) {
+    undo_all();
+    return -1;
+  }
+
+  // In place: vs on t's boundary edge g that vt lies on, a fraction eps of
+  // the way to the next boundary point along the edge vs took (the other
+  // side's first vertex on it, or its far end); its edge to the wing a copy
+  // of vt's shifted to vs's side. The slides then place both.
+  const MetaSide& T = meta_.side[t];
+  const int g = S.location[vt].edge;
+  const double tau = S.location[vt].t;
+  Place next = vertex_node(meta_, s, far).place[t];
+  double nearest = 1;
+  for (int x : IS.on_edge[moved_boundary]) {
+    const double u = S.edges[moved_boundary][0] == vs ? T.location[x].t : 1 - T.location[x].t;
+    if (u < nearest) nearest = u, next = vertex_node(meta_, t, x).place[t];
+  }
+  const double tau_next = next.kind == Place::edge && next.index == g                 ? next.t
+                          : next.kind == Place::vertex && next.index == T.edges[g][0] ? 0.0
+                          : next.kind == Place::vertex && next.index == T.edges[g][1] ? 1.0
+                                                                                      : tau;
+  const auto& gf = index_[t].edge_faces[g];
+  for (double eps = 0.25; tau_next != tau && eps > 1e-12; eps *= 0.0625) {
+    Proposal proposal;
+    MetaLocation loc;
+    set_edge_location(loc, T, gf[0] >= 0 ? gf[0] : gf[1], g, tau + eps * (tau_next - tau));
+    proposal.locations[0].push_back({vs, loc});
+    std::map<int, std::vector<MetaCrossing>> other;
+    std::vector<MetaCrossing> copy;
+    if (!shifted_copy(s, vt, vs, chart.spoke[j], e_w, ccw ? 1.0 : -1.0, eps, other, copy)) {
+      last_refusal_ = "the boundary split in place could not be set up";
+      continue;
+    }
+    proposal.lists.push_back({e_w, std::move(copy)});
+    for (auto& [h, list] : other) {
+      std::sort(list.begin(), list.end(),
+                [](const auto& a, const auto& b) { return a.here < b.here; });
+      proposal.other_lists.push_back({h, std::move(list)});
+    }
+    if (apply(s, changed, proposal, limit, limit < HUGE_VAL)) {
+      ++stats_.splits_in_place;
+      last_split_growth_ = faces_energy(s, changed) / before;
+      return vs;
+    }
+  }
+  undo_all();
+  return -1;
+}
+
 int InterSurfaceMap::try_split(int s, bool place, double cap) {
   const VertexSplit& sp = input_[s].splits[next_split_[s]];
+  if (sp.vl < 0 || sp.vr < 0) return try_boundary_split(s, place, cap);
   const std::string where = std::string(s == 0 ? "M¹" : "M²") + " split " +
                             std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
                             " from " + std::to_string(sp.vt) + ")";
@@ -2403,7 +2581,7 @@ InterSurfaceMap::SplitUndo InterSurfaceMap::split_undo(int s, const Chart& chart
   u.n_faces = S.faces.size();
   u.area = area_[s];
   for (int x : {sp.vt, sp.vs, sp.vl, sp.vr})
-    u.vertices.push_back({x, IS.vertex_edges[x], IS.vertex_faces[x]});
+    if (x >= 0) u.vertices.push_back({x, IS.vertex_edges[x], IS.vertex_faces[x]});
   for (int f : chart.faces) u.faces.push_back({f, S.faces[f], S.lengths[f], S.face_edges[f]});
   std::vector<int> others;
   for (std::size_t i = 0; i < chart.spoke.size(); ++i) {
@@ -2464,14 +2642,16 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
 int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
   if (index_[s].open) {
-    // Open maps refine only inside yet: a split of a boundary vertex (whose
-    // ring is not a closed fan) is refused before anything changes.
+    // A split of a boundary vertex (whose ring is not a closed fan) with
+    // both wings (the fan that moves inside, or across the boundary) is
+    // refused yet, before anything changes.
     const VertexSplit& sp = input_[s].splits[next_split_[s]];
-    if (ring_faces(s, sp.vt).empty())
-      throw std::runtime_error(std::string(s == 0 ? "M¹" : "M²") + " split " +
-                               std::to_string(next_split_[s]) + " (vertex " +
-                               std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
-                               "): a split at the boundary, which open maps do not refine yet");
+    if (sp.vl >= 0 && sp.vr >= 0 && ring_faces(s, sp.vt).empty())
+      throw std::runtime_error(
+          std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
+          " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
+          "): a split at the boundary with both wings (the fan that moves inside, or "
+          "across the boundary), which open maps do not refine yet");
   }
   for (int attempt = 0;; ++attempt) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
