@@ -201,9 +201,12 @@ class InterSurfaceMap {
   /// map (sides with boundaries) an interior vertex whose ring reaches the
   /// boundary splits like any other; a boundary split (one wing -1) puts
   /// the new vertex in place on the other side's boundary next to vt
-  /// (try_boundary_split), for the slides to place; a split of a boundary
-  /// vertex with both wings, or of one on a vertex of the other side,
-  /// throws std::runtime_error before anything changes. The
+  /// (try_boundary_split), for the slides to place; a boundary vertex's
+  /// split with both wings whose fan from vl to vr lies inside is split in
+  /// place (vs an inner vertex); one whose fan runs across the boundary, a
+  /// boundary split adding a face outside the boundary, and splits of a
+  /// boundary vertex on a vertex of the other side throw std::runtime_error
+  /// before anything changes. The
   /// candidate places are evaluated in parallel (TBB, in the calling
   /// thread's arena); the result does not depend on the number of threads.
   int split_next(int side);

@@ -2370,14 +2370,42 @@ int InterSurfaceMap::try_split(int s, bool place, double cap) {
                             std::to_string(next_split_[s]) + " (vertex " + std::to_string(sp.vs) +
                             " from " + std::to_string(sp.vt) + ")";
   Chart chart;
-  const bool charted = build_chart_from(s, sp.vt, sp.vl, chart);
-  if (!charted && !build_chart_from(s, sp.vt, sp.vl, chart, true))
-    throw std::runtime_error(where + ": the ring of the vertex to split is not a closed fan");
-  const std::size_t m = chart.faces.size();
-  std::size_t last = m;
-  for (std::size_t i = 1; i < m; ++i)
-    if (chart.ring[i] == sp.vr) last = i;
-  if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
+  bool charted = false;
+  std::size_t m = 0, last = 0;
+  if (index_[s].open && ring_faces(s, sp.vt).empty()) {
+    // A boundary vertex with both wings: where the fan from vl to vr lies
+    // inside, it moves to vs (an inner vertex), split in place with that
+    // fan as the chart's ring; where it runs across the boundary (vs would
+    // take the boundary from vt), the split is refused.
+    Chart fan;
+    if (!build_chart_from(s, sp.vt, -1, fan, true, true))
+      throw std::runtime_error(where +
+                               ": a split at the boundary of a vertex that is not on a boundary "
+                               "edge of the other surface, which open maps do not refine yet");
+    const auto a = std::find(fan.ring.begin(), fan.ring.end(), sp.vl) - fan.ring.begin();
+    const auto b = std::find(fan.ring.begin(), fan.ring.end(), sp.vr) - fan.ring.begin();
+    if (a == std::ptrdiff_t(fan.ring.size()) || b == std::ptrdiff_t(fan.ring.size()))
+      throw std::runtime_error(where + ": vl or vr is not a neighbour of the vertex to split");
+    if (a >= b)
+      throw std::runtime_error(where +
+                               ": a split at the boundary that moves a fan across it, which open "
+                               "maps do not refine yet");
+    chart.s = s, chart.t = 1 - s, chart.v = sp.vt;
+    chart.faces.assign(fan.faces.begin() + a, fan.faces.begin() + b);
+    chart.corner.assign(fan.corner.begin() + a, fan.corner.begin() + b);
+    chart.boundary.assign(fan.boundary.begin() + a, fan.boundary.begin() + b);
+    chart.ring.assign(fan.ring.begin() + a, fan.ring.begin() + b + 1);
+    chart.spoke.assign(fan.spoke.begin() + a, fan.spoke.begin() + b + 1);
+    m = last = chart.faces.size();
+  } else {
+    charted = build_chart_from(s, sp.vt, sp.vl, chart);
+    if (!charted && !build_chart_from(s, sp.vt, sp.vl, chart, true))
+      throw std::runtime_error(where + ": the ring of the vertex to split is not a closed fan");
+    m = last = chart.faces.size();
+    for (std::size_t i = 1; i < m; ++i)
+      if (chart.ring[i] == sp.vr) last = i;
+    if (last == m) throw std::runtime_error(where + ": vr is not a neighbour after vl");
+  }
 
   // The energy of the ring before the split bounds the placement's.
   const double before = place ? faces_energy(s, chart.faces) : HUGE_VAL;
@@ -2641,18 +2669,6 @@ void InterSurfaceMap::restore(int s, const SplitUndo& u) {
 
 int InterSurfaceMap::split_next(int s) {
   if (next_split_[s] >= input_[s].splits.size()) return -1;
-  if (index_[s].open) {
-    // A split of a boundary vertex (whose ring is not a closed fan) with
-    // both wings (the fan that moves inside, or across the boundary) is
-    // refused yet, before anything changes.
-    const VertexSplit& sp = input_[s].splits[next_split_[s]];
-    if (sp.vl >= 0 && sp.vr >= 0 && ring_faces(s, sp.vt).empty())
-      throw std::runtime_error(
-          std::string(s == 0 ? "M¹" : "M²") + " split " + std::to_string(next_split_[s]) +
-          " (vertex " + std::to_string(sp.vs) + " from " + std::to_string(sp.vt) +
-          "): a split at the boundary with both wings (the fan that moves inside, or "
-          "across the boundary), which open maps do not refine yet");
-  }
   for (int attempt = 0;; ++attempt) {
     // Placements raising the ring's energy more than kSplitEnergyCap-fold
     // are refused but in the last attempt of each round: such a piece is

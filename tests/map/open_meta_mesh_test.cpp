@@ -631,8 +631,12 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
   // is the map of efficiency 1. B's boundary vertex vt splits (a boundary
   // split, one wing -1) with vs 30 % of the way to a boundary neighbour:
   // placed in place next to vt, vs then slides towards where it belongs.
-  for (const bool ccw : {true, false}) {
-    std::mt19937 rng(ccw ? 31 : 32);
+  // The kinds: the fan from vl to the boundary moves (vr = -1), the fan
+  // from the boundary to vr (vl = -1), a fan inside (vs an inner vertex).
+  enum Kind { ccw, cw, inside };
+  for (const Kind kind : {ccw, cw, inside}) {
+    const char* name = kind == ccw ? "ccw" : kind == cw ? "cw" : "inside";
+    std::mt19937 rng(31 + kind);
     const PlanarMesh A = jittered_square(5, 0.3, rng), B = jittered_square(4, 0.3, rng);
     MetaMesh meta = planar_overlay({&A, &B});
     ASSERT_EQ(validate(meta), std::nullopt);
@@ -640,10 +644,11 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
     const MetaSide& SB = meta.side[1];
     // A boundary vertex of B on a boundary edge of A, with two faces or
     // more, and no vertex of A between it and where vs goes.
-    int vt = -1, wing = -1;
+    int vt = -1, wing = -1, other_wing = -1;
     Vec2 at;
     for (std::size_t v = 0; v < B.p.size() && vt < 0; ++v) {
-      if (!SB.location[v].on_edge() || index[1].vertex_faces[v].size() < 2) continue;
+      if (!SB.location[v].on_edge() || index[1].vertex_faces[v].size() < (kind == inside ? 3u : 2u))
+        continue;
       // The fan counter-clockwise: the face whose (v, next) edge is on the
       // boundary first.
       std::vector<int> ring;
@@ -667,8 +672,10 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
           if (SB.faces[h][(corner(h) + 1) % 3] == last) f = h;
         if (f < 0) ring.push_back(last);
       }
-      const int far = ccw ? ring.back() : ring.front();
-      const Vec2 target = B.p[v] + 0.3 * (B.p[far] - B.p[v]);
+      const Vec2 far = kind == ccw  ? B.p[ring.back()]
+                       : kind == cw ? B.p[ring.front()]
+                                    : 0.5 * (B.p[ring[1]] + B.p[ring[2]]);
+      const Vec2 target = B.p[v] + 0.3 * (far - B.p[v]);
       bool clear = true;
       for (const Vec2& q : A.p) {
         const Vec2 d = target - B.p[v];
@@ -677,11 +684,14 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
       }
       if (!clear) continue;
       vt = int(v), at = target;
-      wing = ccw ? ring[ring.size() - 2] : ring[1];
+      wing = kind == ccw ? ring[ring.size() - 2] : ring[1];
+      other_wing = ring[2];
     }
     ASSERT_GE(vt, 0);
     const int vs = int(B.p.size());
-    const VertexSplit split{vs, vt, ccw ? wing : -1, ccw ? -1 : wing, Vec3::Zero()};
+    const VertexSplit split = kind == ccw  ? VertexSplit{vs, vt, wing, -1, Vec3::Zero()}
+                              : kind == cw ? VertexSplit{vs, vt, -1, wing, Vec3::Zero()}
+                                           : VertexSplit{vs, vt, wing, other_wing, Vec3::Zero()};
     meta.side[1].location.push_back({});
     const MapSideInput a = open_side(meta, 0);
     InterSurfaceMap map(meta, a, embedded_side(B, split, at), {0, 0});
@@ -706,11 +716,12 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
     }
     ASSERT_EQ(map.splits_applied(1), 0u);
     ASSERT_TRUE(index_current(map));
-    ASSERT_EQ(map.split_next(1), vs) << (ccw ? "ccw" : "cw");
+    ASSERT_EQ(map.split_next(1), vs) << name;
     ASSERT_EQ(map.validate(), std::nullopt);
     ASSERT_TRUE(index_current(map));
     ASSERT_EQ(validate(swapped(map.meta())), std::nullopt);
-    ASSERT_TRUE(map.meta().side[1].location[vs].on_edge());
+    // vs on the boundary, or inside a face of A for a fan inside.
+    ASSERT_EQ(map.meta().side[1].location[vs].on_edge(), kind != inside);
     const double split_efficiency = measures(map.meta())->symmetric_efficiency;
     const Vec2 placed =
         point_of(A, map.meta().side[1].location[vs].face, map.meta().side[1].location[vs].bary);
@@ -725,13 +736,13 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
     ASSERT_EQ(map.validate(), std::nullopt);
     ASSERT_TRUE(index_current(map));
     const MetaLocation& loc = map.meta().side[1].location[vs];
-    ASSERT_TRUE(loc.on_edge());
+    ASSERT_EQ(loc.on_edge(), kind != inside);
     const Vec2 slid = point_of(A, loc.face, loc.bary);
     const double end = measures(map.meta())->symmetric_efficiency;
     std::printf(
         "boundary split (%s): efficiency %.6f after the split in place, %.6f after 10 sweeps; vs "
         "%.2e -> %.2e from where it belongs\n",
-        ccw ? "ccw" : "cw", split_efficiency, end, (placed - at).norm(), (slid - at).norm());
+        name, split_efficiency, end, (placed - at).norm(), (slid - at).norm());
     EXPECT_GT(end, split_efficiency);
     EXPECT_LT((slid - at).norm(), 0.2 * (placed - at).norm());
   }
