@@ -259,7 +259,9 @@ bool InterSurfaceMap::build_chart_from(int s, int v, int start, Chart& chart, bo
   const MetaSideIndex& IT = index_[t];
   if (half_disc) {
     // A boundary vertex on a boundary edge of t (not on a vertex of t).
-    if (!IS.open || !S.location[v].on_edge()) return chart_fail(20);
+    // (Its ring alone also where it sits on a vertex of t.)
+    if (!IS.open || !(S.location[v].on_edge() || (ring_only && S.location[v].vertex >= 0)))
+      return chart_fail(20);
     fan_faces(s, v, chart.faces);
     chart.half_disc = true;
   } else {
@@ -2221,8 +2223,8 @@ int InterSurfaceMap::try_boundary_split(int s, bool place, double cap) {
   Chart chart;
   if (!build_chart_from(s, vt, -1, chart, true, true))
     throw std::runtime_error(where +
-                             ": a boundary split of a vertex that is not on a boundary edge of "
-                             "the other surface, which open maps do not refine yet");
+                             ": a boundary split of a vertex that is not on the boundary of the "
+                             "other surface");
   const std::size_t m = chart.faces.size();
   std::size_t j = m + 1;
   for (std::size_t i = 0; i <= m; ++i)
@@ -2323,13 +2325,26 @@ int InterSurfaceMap::try_boundary_split(int s, bool place, double cap) {
   // side's first vertex on it, or its far end); its edge to the wing a copy
   // of vt's shifted to vs's side. The slides then place both.
   const MetaSide& T = meta_.side[t];
-  const int g = S.location[vt].edge;
-  const double tau = S.location[vt].t;
   Place next = vertex_node(meta_, s, far).place[t];
   double nearest = 1;
   for (int x : IS.on_edge[moved_boundary]) {
     const double u = S.edges[moved_boundary][0] == vs ? T.location[x].t : 1 - T.location[x].t;
     if (u < nearest) nearest = u, next = vertex_node(meta_, t, x).place[t];
+  }
+  // The boundary edge g of t from vt's place towards that point: the one
+  // vt lies on, or where vt sits on a boundary vertex x of t, x's boundary
+  // edge that leads there.
+  int g = S.location[vt].edge;
+  double tau = S.location[vt].t;
+  if (const int x = S.location[vt].vertex; x >= 0) {
+    g = next.kind == Place::edge     ? next.index
+        : next.kind == Place::vertex ? index_[t].edge(x, next.index)
+                                     : -1;
+    if (g < 0 || !index_[t].is_boundary(g) || (T.edges[g][0] != x && T.edges[g][1] != x))
+      throw std::runtime_error(where +
+                               ": the boundary next to the vertex to split does not run along one "
+                               "edge of the other surface");
+    tau = T.edges[g][0] == x ? 0.0 : 1.0;
   }
   const double tau_next = next.kind == Place::edge && next.index == g                 ? next.t
                           : next.kind == Place::vertex && next.index == T.edges[g][0] ? 0.0

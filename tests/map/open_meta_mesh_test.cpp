@@ -633,9 +633,13 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
   // placed in place next to vt, vs then slides towards where it belongs.
   // The kinds: the fan from vl to the boundary moves (vr = -1), the fan
   // from the boundary to vr (vl = -1), a fan inside (vs an inner vertex).
-  enum Kind { ccw, cw, inside };
-  for (const Kind kind : {ccw, cw, inside}) {
-    const char* name = kind == ccw ? "ccw" : kind == cw ? "cw" : "inside";
+  // And a boundary split of a corner of B, which sits on a corner of A.
+  enum Kind { ccw, cw, inside, at_corner };
+  for (const Kind kind : {ccw, cw, inside, at_corner}) {
+    const char* name = kind == ccw      ? "ccw"
+                       : kind == cw     ? "cw"
+                       : kind == inside ? "inside"
+                                        : "corner";
     std::mt19937 rng(31 + kind);
     const PlanarMesh A = jittered_square(5, 0.3, rng), B = jittered_square(4, 0.3, rng);
     MetaMesh meta = planar_overlay({&A, &B});
@@ -647,7 +651,9 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
     int vt = -1, wing = -1, other_wing = -1;
     Vec2 at;
     for (std::size_t v = 0; v < B.p.size() && vt < 0; ++v) {
-      if (!SB.location[v].on_edge() || index[1].vertex_faces[v].size() < (kind == inside ? 3u : 2u))
+      const bool on_corner = SB.location[v].vertex >= 0;
+      if (!(kind == at_corner ? on_corner : SB.location[v].on_edge()) ||
+          index[1].vertex_faces[v].size() < (kind == inside ? 3u : 2u))
         continue;
       // The fan counter-clockwise: the face whose (v, next) edge is on the
       // boundary first.
@@ -672,24 +678,25 @@ TEST(OpenMetaMesh, BoundaryVerticesSplitInPlaceAndSlideToTheIdentity) {
           if (SB.faces[h][(corner(h) + 1) % 3] == last) f = h;
         if (f < 0) ring.push_back(last);
       }
-      const Vec2 far = kind == ccw  ? B.p[ring.back()]
-                       : kind == cw ? B.p[ring.front()]
-                                    : 0.5 * (B.p[ring[1]] + B.p[ring[2]]);
+      const Vec2 far = kind == ccw || kind == at_corner ? B.p[ring.back()]
+                       : kind == cw                     ? B.p[ring.front()]
+                                                        : 0.5 * (B.p[ring[1]] + B.p[ring[2]]);
       const Vec2 target = B.p[v] + 0.3 * (far - B.p[v]);
       bool clear = true;
       for (const Vec2& q : A.p) {
         const Vec2 d = target - B.p[v];
         const double u = (q - B.p[v]).dot(d) / d.squaredNorm();
-        if (std::abs(orient(B.p[v], target, q)) < 1e-14 && u > -1e-9 && u < 1 + 1e-9) clear = false;
+        if (std::abs(orient(B.p[v], target, q)) < 1e-14 && u > 1e-9 && u < 1 + 1e-9) clear = false;
       }
       if (!clear) continue;
       vt = int(v), at = target;
-      wing = kind == ccw ? ring[ring.size() - 2] : ring[1];
+      wing = kind == ccw || kind == at_corner ? ring[ring.size() - 2] : ring[1];
       other_wing = ring[2];
     }
     ASSERT_GE(vt, 0);
     const int vs = int(B.p.size());
-    const VertexSplit split = kind == ccw  ? VertexSplit{vs, vt, wing, -1, Vec3::Zero()}
+    const VertexSplit split = kind == ccw || kind == at_corner
+                                  ? VertexSplit{vs, vt, wing, -1, Vec3::Zero()}
                               : kind == cw ? VertexSplit{vs, vt, -1, wing, Vec3::Zero()}
                                            : VertexSplit{vs, vt, wing, other_wing, Vec3::Zero()};
     meta.side[1].location.push_back({});
