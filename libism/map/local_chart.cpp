@@ -2248,9 +2248,13 @@ int InterSurfaceMap::try_boundary_split(int s, bool place, double cap) {
   const SplitUndo undo = split_undo(s, chart, sp);
   // The other side's vertices on the boundary edge vs takes keep their
   // places; their parameters follow its ends' order.
+  std::vector<double> lodger_t;  // (their parameters before, for the undo: 1 - (1 - t) is not t)
   auto flip_lodgers = [&](int e) {
     auto& list = IS.on_edge[e];
-    for (int x : list) meta_.side[t].location[x].t = 1 - meta_.side[t].location[x].t;
+    for (int x : list) {
+      lodger_t.push_back(meta_.side[t].location[x].t);
+      meta_.side[t].location[x].t = 1 - lodger_t.back();
+    }
     std::reverse(list.begin(), list.end());
   };
   bool lodgers_flipped = false;
@@ -2312,7 +2316,11 @@ int InterSurfaceMap::try_boundary_split(int s, bool place, double cap) {
   ++stats_.splits;
   pinned_[s][vs] = 0;
   auto undo_all = [&] {
-    if (lodgers_flipped) flip_lodgers(moved_boundary);
+    if (lodgers_flipped) {
+      auto& list = IS.on_edge[moved_boundary];
+      std::reverse(list.begin(), list.end());
+      for (std::size_t k = 0; k < list.size(); ++k) meta_.side[t].location[list[k]].t = lodger_t[k];
+    }
     restore(s, undo);
   };
   if (!place) {
